@@ -1,0 +1,121 @@
+"""Contacts with Coulomb friction, friction laws and impact laws -- small value objects.
+
+A :class:`Contact` is declared by
+
+* a **gap** ``g(q, t) >= 0`` -- the normal distance, so that its multiplier ``N`` is the
+  physical normal force (or, with ``bilateral=True``, an equation ``g = 0`` whose multiplier
+  may take either sign: a slider in a rough guide, friction then uses ``|N|``);
+* one or two **slip** velocities ``U = W(q, t) q' + w0`` (physical tangential velocities of
+  the contact point, linear in the velocities);
+* a **friction law** -- :class:`Coulomb` (exact, the default), :class:`RegularizedCoulomb`
+  (smooth sign, for comparison) or :class:`LinearizedCoulomb` (the epsilon-linear law of
+  Kalinin & Novozhilov);
+* an **impact law** for when the gap closes -- :class:`Plastic` (default) or
+  :class:`Newton` with a restitution coefficient.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = [
+    "Contact",
+    "Coulomb",
+    "RegularizedCoulomb",
+    "LinearizedCoulomb",
+    "Plastic",
+    "Newton",
+]
+
+
+@dataclass(frozen=True)
+class Coulomb:
+    """Coulomb's law: ``|F| <= mu_static N`` while sticking, ``F = -mu N U/|U|`` while sliding.
+
+    ``mu`` and ``mu_static`` are expressions (``mu_static`` defaults to ``mu``).
+    """
+
+    mu: Any
+    mu_static: Any = None
+
+    @property
+    def exact(self) -> bool:
+        return True
+
+
+@dataclass(frozen=True)
+class RegularizedCoulomb:
+    """Smooth friction ``F = -mu N U / sqrt(|U|^2 + eps^2)`` (what users write by hand).
+
+    No sticking mode: the contact always slides; ``eps`` (m/s) sets the smoothing.
+    """
+
+    mu: Any
+    eps: float
+
+    @property
+    def exact(self) -> bool:
+        return False
+
+
+@dataclass(frozen=True)
+class LinearizedCoulomb:
+    """The epsilon-linear law of Kalinin & Novozhilov (seed 001):
+    ``F = -mu N U/eps`` for ``|U| <= eps``, ``-mu N U/|U|`` outside.
+
+    As ``eps -> 0`` its solutions tend to the sticking (nonholonomic) motion when sticking is
+    realizable (Tikhonov's theorem).
+    """
+
+    mu: Any
+    eps: float
+
+    @property
+    def exact(self) -> bool:
+        return False
+
+
+@dataclass(frozen=True)
+class Plastic:
+    """Plastic impact: the normal velocity of the contact becomes zero."""
+
+    restitution: float = 0.0
+
+
+@dataclass(frozen=True)
+class Newton:
+    """Newton's impact law: the normal velocity reverses, scaled by ``restitution`` in [0, 1]."""
+
+    restitution: float = 0.5
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A contact with friction.
+
+    Parameters
+    ----------
+    name : str
+    gap : expression in the coordinates and time
+        ``>= 0``; the normal distance (its multiplier is the normal force).
+    slip : sequence of 1 or 2 expressions
+        Tangential slip velocities, linear in the velocities.
+    friction : Coulomb, RegularizedCoulomb or LinearizedCoulomb
+    impact : Plastic or Newton
+    bilateral : bool
+        The gap is held at zero by a two-sided guide (no separation; friction uses ``|N|``).
+    """
+
+    name: str
+    gap: Any
+    slip: tuple[Any, ...]
+    friction: Any = field(default_factory=lambda: Coulomb(0))
+    impact: Any = field(default_factory=Plastic)
+    bilateral: bool = False
+
+    def __post_init__(self):
+        slip = self.slip
+        if isinstance(slip, (str, int, float)) or not hasattr(slip, "__iter__"):
+            slip = (slip,)
+        object.__setattr__(self, "slip", tuple(slip))

@@ -1,0 +1,176 @@
+"""The motion at one state: accelerations, multipliers, reactions split into constraint and
+friction parts (Painleve's split, seed 000 section 1.2).
+
+For the constraint Jacobian ``G`` of the active constraints (as ideal constraints) and the
+possible velocities ``V`` (``G V = 0``), every generalized reaction decomposes uniquely as
+
+    R = G^T lambda + M V mu    (constraint force + friction force),
+
+because ``V^T M V`` is positive definite.  Hence ``lambda = (G M^-1 G^T)^-1 G M^-1 R`` and
+the friction part is ``P R`` with ``P = I - G^T (G M^-1 G^T)^-1 G M^-1``.  The constraint part
+does not depend on friction: ``lambda = -(G M^-1 G^T)^-1 (gamma + G M^-1 F)``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .consistency import complete_state
+from .errors import ModelError, did_you_mean
+from .expressions import parse_expression
+from .model import Model
+from .modes import ModeSolver, select_mode
+from .numeric import kernel_of, parameter_vector
+
+__all__ = ["Evaluation", "evaluate", "parse_state", "painleve_split"]
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Everything about the motion at one state (see :func:`evaluate`)."""
+
+    model: str
+    form: str
+    t: float
+    coordinates: tuple[str, ...]
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    mode: str
+    multipliers: dict[str, float]
+    reactions: dict[str, dict[str, list[float]]]
+    contacts: dict[str, dict[str, Any]]
+    split_available: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        """The SPEC's JSON structure of ``evaluate``."""
+        c = self.coordinates
+        return {
+            "model": self.model, "form": self.form, "t": self.t,
+            "q": dict(zip(c, map(float, self.q))),
+            "qdot": dict(zip(c, map(float, self.qd))),
+            "qddot": dict(zip(c, map(float, self.qdd))),
+            "multipliers": dict(self.multipliers),
+            "reactions": self.reactions,
+            "contacts": self.contacts,
+            "mode": self.mode,
+        }
+
+    def as_text(self) -> str:
+        lines = [f"{self.model} at t = {self.t:g}  (form: {self.form}, mode: {self.mode})"]
+        width = max(len(n) for n in self.coordinates) + 2
+        for i, n in enumerate(self.coordinates):
+            lines.append(f"  {n:<{width}} = {self.q[i]: .10g}   {n}' = {self.qd[i]: .10g}   "
+                         f"{n}'' = {self.qdd[i]: .10g}")
+        for name, value in self.multipliers.items():
+            r = self.reactions[name]
+            lines.append(f"  lambda_{name} = {value: .10g}")
+            lines.append(f"    reaction (generalized) = {_fmt(r['generalized'])}")
+            if self.split_available:
+                lines.append(f"    constraint part        = {_fmt(r['constraint_part'])}")
+                lines.append(f"    friction part          = {_fmt(r['friction_part'])}")
+        return "\n".join(lines)
+
+
+def _fmt(values) -> str:
+    return "[" + ", ".join(f"{v:.8g}" for v in values) + "]"
+
+
+def parse_state(model: Model, text: str | None) -> dict[str, float]:
+    """Parse ``"x=0.1, theta=0.3, x'=1"`` (values may be expressions in the parameters)."""
+    if not text:
+        return {}
+    out = {}
+    allowed = set(model.coordinates) | {c + "'" for c in model.coordinates}
+    import sympy as sp
+    names = {n: sp.Symbol(n) for n in model.parameters}
+    values = {sp.Symbol(n): p.value for n, p in model.parameters.items()}
+    for part in text.split(","):
+        if not part.strip():
+            continue
+        if "=" not in part:
+            raise ModelError(f"--at: '{part.strip()}' is not of the form name=value")
+        key, _, val = part.partition("=")
+        key = key.strip()
+        if key not in allowed:
+            raise ModelError(f"--at: '{key}' is not a coordinate or velocity{did_you_mean(key, allowed)}")
+        expr = parse_expression(val.strip(), names, f"--at {key}")
+        out[key] = float(expr.subs(values))
+    return out
+
+
+def painleve_split(M: np.ndarray, G: np.ndarray, R: np.ndarray):
+    """Split a generalized reaction ``R`` into ``G^T lambda`` and the friction part ``P R``.
+
+    Returns ``(lambda, friction_part)`` or ``None`` when ``M`` is singular.
+    """
+    try:
+        Minv_GT = np.linalg.solve(M, G.T)
+        Minv_R = np.linalg.solve(M, R)
+    except np.linalg.LinAlgError:
+        return None
+    S = G @ Minv_GT
+    lam = np.linalg.solve(S, G @ Minv_R)
+    return lam, R - G.T @ lam
+
+
+def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | None = None,
+             form: str = "lagrange1", parameters: Mapping[str, float] | None = None,
+             independent=None) -> Evaluation:
+    """Accelerations, multipliers and reactions at a state.
+
+    Parameters
+    ----------
+    model : Model
+    at : mapping, optional
+        Values overriding the model's initial state (missing dependent values are completed
+        from the constraints).
+    t : float, optional
+        Time (default: the model's ``t0``).
+    form : str
+        Formalism evaluating the accelerations (the result must not depend on it).
+
+    Returns
+    -------
+    Evaluation
+    """
+    kernel = kernel_of(model)
+    params = parameter_vector(model, parameters)
+    t = model.t0 if t is None else float(t)
+    given = dict(model.numeric_initial())
+    if at:
+        # a coordinate given at the command line replaces the file's value; dependent ones
+        # that are not given are completed again
+        given.update(at)
+    q, qd, _ = complete_state(kernel, given, params, t)
+    solver = ModeSolver(kernel, params, form, independent)
+    mode = select_mode(solver, t, q, qd)
+    sol = solver.solve(t, q, qd, mode)
+    rows = kernel.rows
+    multipliers = {}
+    reactions = {}
+    R_total = sol.M @ sol.qdd - sol.F
+    split = painleve_split(sol.M, sol.G[sol.rows], R_total) if sol.rows else None
+    for r_i, row in enumerate(rows):
+        name = row.name
+        active = r_i in sol.rows
+        lam = sol.multiplier(r_i) if active else 0.0
+        multipliers[name] = float(lam)
+        generalized = sol.B[:, r_i] * lam if active else np.zeros(kernel.n)
+        if split is not None and active:
+            j = sol.rows.index(r_i)
+            constraint_part = sol.G[r_i] * split[0][j]
+        else:
+            constraint_part = generalized
+        reactions[name] = {
+            "generalized": [float(v) for v in generalized],
+            "constraint_part": [float(v) for v in constraint_part],
+            "friction_part": [float(v) for v in (generalized - constraint_part)],
+            "active": bool(active),
+        }
+    return Evaluation(model.name, form, t, tuple(model.coordinates), q, qd, sol.qdd, mode.label(),
+                      multipliers, reactions, {}, split is not None)

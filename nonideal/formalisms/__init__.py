@@ -1,0 +1,62 @@
+"""The classical forms of the equations of motion, one module each.
+
+:func:`derive` is the entry point: ``derive(model, "maggi")`` returns an
+:class:`~nonideal.eom.EquationsOfMotion`.  :data:`FORMS` maps the CLI names to the classes.
+"""
+
+from __future__ import annotations
+
+from ..dynamics import ConstraintRow, dynamics_of
+from ..eom import EquationsOfMotion
+from ..errors import FormNotApplicable, did_you_mean
+from ..model import Model
+from .base import Formalism
+from .lagrange1 import Lagrange1
+from .maggi import Maggi
+
+__all__ = ["FORMS", "derive", "Formalism"]
+
+FORMS: dict[str, type[Formalism]] = {
+    "lagrange1": Lagrange1,
+    "maggi": Maggi,
+}
+
+
+def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | None = None,
+           independent: tuple[str, ...] | None = None) -> EquationsOfMotion:
+    """Equations of motion of *model* in *form*.
+
+    Parameters
+    ----------
+    model : Model
+    form : str
+        One of :data:`FORMS` (``lagrange1``, ``lagrange2``, ``maggi``, ``appell``, ``shulgin``).
+    rows : list of ConstraintRow, optional
+        Constraint rows to respect (default: every constraint of the model, unilateral ones
+        taken as active).  The hybrid simulation passes the rows of the current mode.
+    independent : tuple of str, optional
+        Independent coordinates for the reduced forms (default: the model's ``independent``,
+        else a sparse, well-conditioned choice).
+
+    Returns
+    -------
+    EquationsOfMotion
+
+    Examples
+    --------
+    >>> from nonideal import gallery
+    >>> eom = derive(gallery.load("chaplygin-sleigh"), "maggi")
+    >>> eom.unknowns
+    ('x\\'\\'', "theta''")
+    """
+    if form not in FORMS:
+        raise FormNotApplicable(
+            f"--form: unknown form '{form}'{did_you_mean(form, FORMS)}; choose one of "
+            + ", ".join(FORMS)
+        )
+    dyn = dynamics_of(model)
+    if rows is None:
+        rows = dyn.rows()
+    if independent is None:
+        independent = model.independent
+    return FORMS[form]().derive(dyn, list(rows), independent)

@@ -1,0 +1,295 @@
+"""The :class:`Formalism` base class and the velocity reduction shared by the reduced forms.
+
+Checklist for implementing a formalism (read before adding one):
+
+1. Subclass :class:`Formalism`; set ``name`` (the CLI's ``--form``), ``title`` and ``citation``
+   (source and equation numbers; say which code name is which symbol).
+2. Implement :meth:`Formalism.derive` taking the kernel :class:`~nonideal.dynamics.Dynamics`,
+   the constraint rows to respect and the user's choice of independent coordinates; return an
+   :class:`~nonideal.eom.EquationsOfMotion` filled completely: ``A, c, Q_f`` (dynamics),
+   ``B, G, gamma`` for the multipliers the form keeps, and ``R, r`` mapping the form's
+   unknowns back to all accelerations.
+3. Raise :class:`~nonideal.errors.FormNotApplicable` naming the form that applies instead when
+   the model is outside the form's domain.  Never return a partial result.
+4. Symbolic work stays cheap: no ``simplify``, no symbolic inversion beyond the dependent block
+   of the constraints (use :func:`reduce_velocities`, which falls back to auxiliary symbols
+   solved numerically when the explicit inverse would blow up).
+5. Register the class in :data:`nonideal.formalisms.FORMS` and add the form to the
+   cross-form agreement tests (every gallery model, random admissible states).
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass
+
+import numpy as np
+import symengine as se
+
+from ..dynamics import ConstraintRow, Dynamics, count_ops
+from ..eom import Auxiliary, EquationsOfMotion
+from ..errors import FormNotApplicable, SingularSystem, did_you_mean
+
+__all__ = ["Formalism", "Reduction", "reduce_velocities", "split_rows", "numeric_instances"]
+
+
+class Formalism:
+    """Base class of a formalism (see the module docstring for the checklist)."""
+
+    name: str = ""
+    title: str = ""
+    citation: str = ""
+
+    def derive(self, dyn: Dynamics, rows: list[ConstraintRow],
+               independent: tuple[str, ...] | None) -> EquationsOfMotion:
+        raise NotImplementedError
+
+
+def split_rows(rows: list[ConstraintRow]) -> tuple[list[ConstraintRow], list[ConstraintRow]]:
+    """Ideal rows (eliminated by the reduced forms) and non-ideal rows (kept with multipliers)."""
+    ideal = [r for r in rows if r.reaction_kind == "ideal"]
+    other = [r for r in rows if r.reaction_kind != "ideal"]
+    return ideal, other
+
+
+# ----------------------------------------------------------------------------- numerics helpers
+
+
+def numeric_instances(dyn: Dynamics, exprs: list, count: int = 2, seed: int = 7) -> list[np.ndarray]:
+    """Evaluate expressions at *count* generic points (random q, q', t; parameter values)."""
+    rng = random.Random(seed)
+    syms = dyn.q + dyn.qd + dyn.qdd + [dyn.t]
+    pvals = dict(zip(dyn.params, dyn.model.parameter_values.values()))
+    out = []
+    for _ in range(count):
+        subs = {s: rng.uniform(0.2, 1.1) * rng.choice((-1, 1)) for s in syms}
+        subs.update(pvals)
+        vals = []
+        for e in exprs:
+            try:
+                vals.append(complex(se.sympify(e).xreplace(subs).n()).real)
+            except (RuntimeError, TypeError, ValueError):
+                vals.append(np.nan)
+        out.append(np.array(vals, dtype=float))
+    return out
+
+
+# ----------------------------------------------------------------------------- reduction
+
+
+@dataclass(frozen=True)
+class Reduction:
+    """Velocity reduction ``q' = V p + v0`` / ``q'' = V p' + w`` on the constraint manifold.
+
+    Attributes
+    ----------
+    dependent, independent : list of int
+        Coordinate indices; ``p`` are the velocities of the independent ones.
+    V : se.DenseMatrix, shape (n_q, k)
+    w : se.DenseMatrix, shape (n_q, 1)
+        Particular acceleration satisfying ``G w + gamma = 0`` with zero independent part.
+    auxiliaries : tuple of Auxiliary
+        Non-empty when V and w are kept as symbols (explicit inverse too large).
+    """
+
+    dependent: list[int]
+    independent: list[int]
+    V: object
+    w: object
+    auxiliaries: tuple[Auxiliary, ...]
+
+    @property
+    def explicit(self) -> bool:
+        return not self.auxiliaries
+
+
+def _choose_dependent(dyn: Dynamics, G: list[list], names: list[str],
+                      independent: tuple[str, ...] | None, row_names: list[str]) -> list[int]:
+    """Pick one dependent coordinate per constraint row (Markowitz pivoting, numerically safe)."""
+    m, n = len(G), dyn.n
+    coords = list(dyn.model.coordinates)
+    flat = [G[i][j] for i in range(m) for j in range(n)]
+    inst = [x.reshape(m, n) for x in numeric_instances(dyn, flat, count=2)]
+    if independent is not None:
+        ind = [coords.index(c) for c in independent]
+        dep = [j for j in range(n) if j not in ind]
+        if len(dep) != m:
+            raise FormNotApplicable(
+                f"[forms] independent: {len(independent)} independent coordinates given, but with "
+                f"{m} constraint equation(s) ({', '.join(row_names)}) on {n} coordinates there are "
+                f"{n - m}; choose {n - m}"
+            )
+        for Gn in inst:
+            if np.linalg.matrix_rank(Gn[:, dep]) < m:
+                raise FormNotApplicable(
+                    f"[forms] independent = {list(independent)}: the constraints "
+                    f"({', '.join(row_names)}) cannot be solved for the velocities of "
+                    f"{[coords[j] for j in dep]}; choose other independent coordinates"
+                )
+        return dep
+    pattern = [[G[i][j] != 0 for j in range(n)] for i in range(m)]
+    work = [g.copy() for g in inst]
+    rows_left, cols_left, dep = list(range(m)), list(range(n)), []
+    ops = [[count_ops([G[i][j]]) for j in range(n)] for i in range(m)]
+    for _ in range(m):
+        best = None
+        for i in rows_left:
+            rnnz = sum(pattern[i][j] for j in cols_left)
+            for j in cols_left:
+                if not pattern[i][j]:
+                    continue
+                mags = [abs(W[i, j]) / (np.abs(W[i, cols_left]).max() + 1e-300) for W in work]
+                if min(mags) < 1e-6:
+                    continue
+                cnnz = sum(pattern[r][j] for r in rows_left)
+                key = ((rnnz - 1) * (cnnz - 1), ops[i][j], -j)
+                if best is None or key < best[0]:
+                    best = (key, i, j)
+        if best is None:
+            bad = [row_names[i] for i in rows_left]
+            raise SingularSystem(
+                f"constraints {', '.join(repr(b) for b in bad)} are dependent on the others "
+                "(their velocity-level gradients are linearly dependent); remove redundant "
+                "constraints"
+            )
+        _, pi, pj = best
+        for W in work:
+            piv = W[pi, pj]
+            for r in rows_left:
+                if r != pi and W[r, pj] != 0:
+                    W[r, :] -= W[r, pj] / piv * W[pi, :]
+        for r in rows_left:
+            if r != pi and pattern[r][pj]:
+                pattern[r] = [a or b for a, b in zip(pattern[r], pattern[pi])]
+        rows_left.remove(pi)
+        cols_left.remove(pj)
+        dep.append(pj)
+    return sorted(dep)
+
+
+def _symbolic_solve(K: list[list], Y: list[list], budget: int):
+    """Solve K X = Y (square K) by Gaussian elimination with sparse-aware pivoting.
+
+    Returns the list-of-lists X, or None when the operation count exceeds *budget*.
+    """
+    m = len(K)
+    p = len(Y[0]) if Y else 0
+    aug = [list(K[i]) + list(Y[i]) for i in range(m)]
+    order = []
+    remaining = list(range(m))
+    for col in range(m):
+        cands = [r for r in remaining if aug[r][col] != 0]
+        if not cands:
+            return None
+        piv = min(cands, key=lambda r: (sum(1 for c in range(col, m) if aug[r][c] != 0),
+                                        count_ops([aug[r][col]])))
+        remaining.remove(piv)
+        order.append(piv)
+        for r in remaining:
+            if aug[r][col] != 0:
+                f = aug[r][col] / aug[piv][col]
+                aug[r] = [aug[r][c] - f * aug[piv][c] if c > col and aug[piv][c] != 0 else
+                          (se.Integer(0) if c == col else aug[r][c]) for c in range(m + p)]
+        if count_ops([x for row in aug for x in row]) > budget:
+            return None
+    X = [[se.Integer(0)] * p for _ in range(m)]
+    for col in reversed(range(m)):
+        r = order[col]
+        for c in range(p):
+            acc = aug[r][m + c]
+            for k in range(col + 1, m):
+                if aug[r][k] != 0:
+                    acc -= aug[r][k] * X[k][c]
+            X[col][c] = acc / aug[r][col]
+        if count_ops([x for x in X[col]]) > budget:
+            return None
+    return X
+
+
+def reduce_velocities(dyn: Dynamics, rows: list[ConstraintRow],
+                      independent: tuple[str, ...] | None, explicit_budget: int | None = None) -> Reduction:
+    """Eliminate the dependent velocities of *rows*: ``q'' = V p' + w``.
+
+    The dependent block ``G_D`` is solved symbolically when that stays small (a budget of
+    operations proportional to the input); otherwise the entries of ``V`` and ``w`` become
+    auxiliary symbols defined by ``G_D [V_D | w_D] = [-G_I | -gamma]`` and solved numerically.
+    """
+    n = dyn.n
+    coords = list(dyn.model.coordinates)
+    m = len(rows)
+    if m == 0:
+        ind = list(range(n))
+        return Reduction([], ind, se.eye(n), se.zeros(n, 1), ())
+    G = [list(r.G) for r in rows]
+    gamma = [r.gamma for r in rows]
+    if independent is not None:
+        bad = [c for c in independent if c not in coords]
+        if bad:
+            raise FormNotApplicable(
+                f"[forms] independent: '{bad[0]}' is not a coordinate{did_you_mean(bad[0], coords)}"
+            )
+    dep = _choose_dependent(dyn, G, coords, independent, [r.name for r in rows])
+    ind = [j for j in range(n) if j not in dep]
+    k = len(ind)
+    K = [[G[i][j] for j in dep] for i in range(m)]
+    Y = [[-G[i][j] for j in ind] + [-gamma[i]] for i in range(m)]
+    size_in = count_ops([x for row in K for x in row] + [x for row in Y for x in row])
+    budget = explicit_budget if explicit_budget is not None else max(4000, 12 * size_in)
+    X = _symbolic_solve(K, Y, budget)
+    aux: tuple[Auxiliary, ...] = ()
+    if X is None:
+        syms = [[se.Symbol(f"V[{coords[dep[i]]},{coords[ind[c]]}]") for c in range(k)]
+                + [se.Symbol(f"w[{coords[dep[i]]}]")] for i in range(m)]
+        aux = (Auxiliary(se.Matrix(syms), se.Matrix(K), se.Matrix(Y),
+                         "dependent-velocity coefficients V[d,i] and w[d] solve "
+                         "G_D [V_D | w_D] = [-G_I | -gamma] (solved numerically)"),)
+        X = syms
+    V = se.zeros(n, k)
+    w = se.zeros(n, 1)
+    for c, j in enumerate(ind):
+        V[j, c] = 1
+    for i, j in enumerate(dep):
+        for c in range(k):
+            V[j, c] = X[i][c]
+        w[j, 0] = X[i][k]
+    return Reduction(dep, ind, V, w, aux)
+
+
+def project_rows(rows: list[ConstraintRow], red: Reduction, n: int):
+    """Kept (non-ideal) rows expressed in the reduced unknowns: ``G V``, ``G w + gamma``, ``V^T B``."""
+    k = len(red.independent)
+    m = len(rows)
+    G = se.zeros(m, k)
+    gamma = se.zeros(m, 1)
+    B = se.zeros(k, m)
+    for i, r in enumerate(rows):
+        for c in range(k):
+            G[i, c] = sum((r.G[j] * red.V[j, c] for j in range(n) if r.G[j] != 0 and red.V[j, c] != 0),
+                          se.Integer(0))
+            B[c, i] = sum((red.V[j, c] * r.B[j] for j in range(n) if r.B[j] != 0 and red.V[j, c] != 0),
+                          se.Integer(0))
+        gamma[i, 0] = r.gamma + sum((r.G[j] * red.w[j, 0] for j in range(n) if r.G[j] != 0 and red.w[j, 0] != 0),
+                                    se.Integer(0))
+    return G, gamma, B
+
+
+def quadratic_form(V, M, n: int, k: int):
+    """``V^T M V`` exploiting zeros (V is mostly identity/zero)."""
+    MV = se.zeros(n, k)
+    for i in range(n):
+        for c in range(k):
+            MV[i, c] = sum((M[i, j] * V[j, c] for j in range(n) if V[j, c] != 0 and M[i, j] != 0), se.Integer(0))
+    A = se.zeros(k, k)
+    for a in range(k):
+        for b in range(a, k):
+            A[a, b] = sum((V[i, a] * MV[i, b] for i in range(n) if V[i, a] != 0 and MV[i, b] != 0), se.Integer(0))
+            A[b, a] = A[a, b]
+    return A, MV
+
+
+def transpose_times(V, x, n: int, k: int):
+    """``V^T x`` for a column ``x``."""
+    out = se.zeros(k, 1)
+    for c in range(k):
+        out[c, 0] = sum((V[i, c] * x[i] for i in range(n) if V[i, c] != 0 and x[i] != 0), se.Integer(0))
+    return out

@@ -1,0 +1,755 @@
+"""The user's declaration of a mechanical system: :class:`Model` (immutable once built).
+
+A model holds coordinates, parameters, the kinetic energy (an expression, bodies, or both),
+the potential energy, generalized forces and loads, constraints and contacts, an initial state
+and simulation settings.  Expressions may be given as strings (parsed by the safe parser of
+:mod:`nonideal.expressions`) or as SymPy expressions -- including
+``sympy.physics.mechanics.dynamicsymbols`` -- and are normalized to plain SymPy symbols named
+``x``, ``x'``, ``x''`` (see :mod:`nonideal.symbols`).
+
+Everything that can be checked without mechanics is checked here, and every problem is
+reported at once (:class:`~nonideal.errors.ModelError`).
+
+Examples
+--------
+>>> from nonideal import Model, Constraint
+>>> m = Model(
+...     name="particle on a rotating line",
+...     coordinates=["x", "y"],
+...     parameters={"m": 1.0, "w": 2.0},
+...     kinetic="m/2*(x'^2 + y'^2)",
+...     constraints=[Constraint.holonomic("line", "y*cos(w*t) - x*sin(w*t)")],
+...     initial={"x": 1.0, "y": 0.0, "x'": 0.0},
+... )
+>>> m.n_q, [c.kind for c in m.constraints]
+(2, ['holonomic'])
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
+from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
+from .errors import ExpressionError, ModelError, did_you_mean
+from .expressions import CONSTANTS, FUNCTIONS, parse_expression
+from .symbols import coordinate_symbols, is_identifier, t
+
+__all__ = ["Parameter", "Constraint", "SimulationSettings", "Model", "RESERVED_NAMES"]
+
+RESERVED_NAMES = frozenset({"t"} | set(FUNCTIONS) | set(CONSTANTS))
+
+CONSTRAINT_TYPES = ("holonomic", "nonholonomic", "servo")
+METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A named constant: value in SI units, optional unit and description."""
+
+    name: str
+    value: float
+    unit: str = ""
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """A constraint ``expr = 0`` (or ``expr >= 0`` if ``unilateral``) with its reaction.
+
+    Parameters
+    ----------
+    name : str
+    expr : str or sympy.Expr
+        Holonomic constraints depend on coordinates and time; nonholonomic ones also on
+        velocities (linear or not: Chetaev's rule gives the reaction direction); a
+        second-order constraint may contain accelerations linearly.
+    kind : {"auto", "holonomic", "nonholonomic", "servo"}
+        ``"auto"`` infers holonomic/nonholonomic from the derivatives present.  ``"servo"``
+        requires ``reaction``.
+    unilateral : bool
+        ``expr >= 0`` with a multiplier ``>= 0``, released when it would become negative
+        (holonomic constraints only).
+    restitution : float
+        Impact law when a released unilateral constraint closes again: 0 (default) plastic,
+        ``e > 0`` Newton's law.
+    reaction : sequence of n_q expressions, optional
+        Generalized reaction direction (servo-constraint realized by a control force of
+        prescribed direction).  Default: ideal (the gradient of ``expr`` by the highest
+        derivative present).
+    transform : n_q x n_q nested sequence, optional
+        Quasi-ideal constraint: the reaction ``R`` satisfies ``A R = (df/dq)^T lambda``.
+    """
+
+    name: str
+    expr: Any
+    kind: str = "auto"
+    unilateral: bool = False
+    reaction: tuple[Any, ...] | None = None
+    transform: tuple[tuple[Any, ...], ...] | None = None
+    restitution: float = 0.0
+    order: int = -1  # filled by the Model: 0 holonomic, 1 first order, 2 second order
+
+    @classmethod
+    def holonomic(cls, name: str, expr: Any, unilateral: bool = False, **kw) -> "Constraint":
+        return cls(name, expr, "holonomic", unilateral, **kw)
+
+    @classmethod
+    def nonholonomic(cls, name: str, expr: Any, **kw) -> "Constraint":
+        return cls(name, expr, "nonholonomic", **kw)
+
+    @classmethod
+    def servo(cls, name: str, expr: Any, reaction: Iterable[Any], **kw) -> "Constraint":
+        return cls(name, expr, "servo", reaction=tuple(reaction), **kw)
+
+    @property
+    def reaction_kind(self) -> str:
+        """``"ideal"``, ``"servo"`` or ``"quasi-ideal"``."""
+        if self.reaction is not None:
+            return "servo"
+        if self.transform is not None:
+            return "quasi-ideal"
+        return "ideal"
+
+
+@dataclass(frozen=True)
+class SimulationSettings:
+    """Integrator settings: end time, tolerances, SciPy method, optional max step."""
+
+    t_end: float | None = None
+    rtol: float = 1e-10
+    atol: float = 1e-12
+    method: str = "DOP853"
+    max_step: float | None = None
+
+
+@dataclass(frozen=True)
+class Model:
+    """A mechanical system as the user declared it.
+
+    Parameters
+    ----------
+    name : str
+    coordinates : sequence of str
+        Names of the generalized coordinates (functions of time).
+    parameters : mapping name -> number or :class:`Parameter`
+    kinetic : expression, optional
+        Kinetic energy in the coordinates, their velocities (``x'``) and time.
+    potential : expression, optional
+    forces : mapping coordinate -> expression, optional
+        Extra (non-potential) generalized forces.
+    bodies : sequence of Particle, PlanarBody, RigidBody
+        Added to ``kinetic``.
+    loads : sequence of Force, Torque
+        Added to ``forces`` by virtual work.
+    gravity : sequence of expressions, optional
+        Uniform gravity vector; adds ``-sum m g . r`` over the bodies to the potential.
+    constraints : sequence of Constraint
+    contacts : sequence of Contact
+    initial : mapping
+        Coordinate and velocity (``"x'"``) values at ``t0``; numbers or expressions in the
+        parameters.  Missing dependent values are completed from the constraints.
+    t0 : float
+    independent : sequence of str, optional
+        Coordinates whose velocities are kept as independent by the reduced forms (Maggi,
+        Appell, Shulgin) and coordinates kept by Lagrange II.
+    simulation : SimulationSettings or mapping
+    source : str
+        Where the model came from (a file name), used in error messages.
+    description : str
+    """
+
+    name: str
+    coordinates: tuple[str, ...]
+    parameters: Mapping[str, Parameter] = field(default_factory=dict)
+    kinetic: Any = 0
+    potential: Any = 0
+    forces: Any = field(default_factory=dict)
+    bodies: tuple[Any, ...] = ()
+    loads: tuple[Any, ...] = ()
+    gravity: tuple[Any, ...] | None = None
+    constraints: tuple[Constraint, ...] = ()
+    contacts: tuple[Contact, ...] = ()
+    initial: Mapping[str, Any] = field(default_factory=dict)
+    t0: float = 0.0
+    independent: tuple[str, ...] | None = None
+    simulation: SimulationSettings = field(default_factory=SimulationSettings)
+    source: str = "<api>"
+    description: str = ""
+
+    # ------------------------------------------------------------------ construction
+    def __post_init__(self):
+        problems: list[str] = []
+        _Normalizer(self, problems).run()
+        if problems:
+            raise ModelError(problems, None if self.source == "<api>" else self.source)
+
+    def replace(self, **changes) -> "Model":
+        """A new model with some fields changed (the model itself never changes)."""
+        return replace(self, **changes)
+
+    # ------------------------------------------------------------------ symbols
+    @property
+    def n_q(self) -> int:
+        return len(self.coordinates)
+
+    @property
+    def q(self) -> tuple[sp.Symbol, ...]:
+        return coordinate_symbols(self.coordinates)[0]
+
+    @property
+    def qd(self) -> tuple[sp.Symbol, ...]:
+        return coordinate_symbols(self.coordinates)[1]
+
+    @property
+    def qdd(self) -> tuple[sp.Symbol, ...]:
+        return coordinate_symbols(self.coordinates)[2]
+
+    @property
+    def parameter_symbols(self) -> tuple[sp.Symbol, ...]:
+        return tuple(sp.Symbol(n) for n in self.parameters)
+
+    @property
+    def parameter_values(self) -> dict[str, float]:
+        return {n: p.value for n, p in self.parameters.items()}
+
+    def constraint(self, name: str) -> Constraint:
+        for c in self.constraints:
+            if c.name == name:
+                return c
+        raise ModelError(
+            f"no constraint named '{name}'"
+            + did_you_mean(name, [c.name for c in self.constraints])
+        )
+
+    @property
+    def velocity_names(self) -> tuple[str, ...]:
+        return tuple(n + "'" for n in self.coordinates)
+
+    # ------------------------------------------------------------------ parsing helpers
+    def names(self, order: int = 1, time: bool = True) -> dict[str, sp.Expr]:
+        """Names usable in an expression: parameters, coordinates, derivatives up to *order*."""
+        q, qd, qdd = coordinate_symbols(self.coordinates)
+        out: dict[str, sp.Expr] = {n: sp.Symbol(n) for n in self.parameters}
+        out.update({s.name: s for s in q})
+        if order >= 1:
+            out.update({s.name: s for s in qd})
+        if order >= 2:
+            out.update({s.name: s for s in qdd})
+        if time:
+            out["t"] = t
+        return out
+
+    def parse(self, text: Any, where: str, order: int = 1) -> sp.Expr:
+        """Parse a string (safely) or normalize a SymPy expression of this model."""
+        return _to_expr(text, self.names(order), where, self.coordinates)
+
+    def numeric_initial(self) -> dict[str, float]:
+        """The initial values given, evaluated with the parameter values."""
+        values = {sp.Symbol(n): p.value for n, p in self.parameters.items()}
+        out = {}
+        for key, expr in self.initial.items():
+            out[key] = float(sp.sympify(expr).subs(values))
+        return out
+
+
+# ====================================================================== normalization
+
+
+def _to_expr(value: Any, names: Mapping[str, sp.Expr], where: str,
+             coordinates: Iterable[str]) -> sp.Expr:
+    if isinstance(value, str) or isinstance(value, (int, float)) and not isinstance(value, bool):
+        return parse_expression(value, names, where)
+    if isinstance(value, sp.Basic):
+        return _normalize_sympy(sp.sympify(value), names, where, tuple(coordinates))
+    raise ExpressionError(
+        f"{where}: expected an expression (string or SymPy), got {type(value).__name__}"
+    )
+
+
+def _normalize_sympy(expr: sp.Basic, names: Mapping[str, sp.Expr], where: str,
+                     coordinates: tuple[str, ...]) -> sp.Expr:
+    """Map dynamicsymbols q(t), q'(t), q''(t) and assumption-carrying symbols onto ours."""
+    repl = {}
+    for d in expr.atoms(sp.Derivative):
+        f = d.expr
+        if isinstance(f, AppliedUndef) and f.func.__name__ in coordinates:
+            order = sum(c for v, c in d.variable_count if v == t or str(v) == "t")
+            key = f.func.__name__ + "'" * order
+            if key not in names:
+                raise ExpressionError(f"{where}: derivative {key} is not allowed here")
+            repl[d] = names[key]
+    expr = expr.xreplace(repl) if repl else expr
+    repl = {}
+    for f in expr.atoms(AppliedUndef):
+        fname = f.func.__name__
+        if fname not in coordinates:
+            raise ExpressionError(
+                f"{where}: unknown function of time '{fname}'{did_you_mean(fname, coordinates)}"
+            )
+        repl[f] = names[fname]
+    expr = expr.xreplace(repl) if repl else expr
+    repl = {}
+    for s in expr.free_symbols:
+        if s.name not in names:
+            raise ExpressionError(
+                f"{where}: unknown symbol '{s.name}'{did_you_mean(s.name, names)}"
+            )
+        if s is not names[s.name]:
+            repl[s] = names[s.name]
+    return expr.xreplace(repl) if repl else expr
+
+
+def _derivative_order(expr: sp.Expr, coordinates: Iterable[str]) -> int:
+    names = {s.name for s in expr.free_symbols}
+    order = 0
+    for c in coordinates:
+        if c + "''" in names:
+            order = 2
+        elif c + "'" in names:
+            order = max(order, 1)
+    return order
+
+
+def _identically_zero(expr: sp.Expr) -> bool:
+    if expr == 0:
+        return True
+    try:
+        if sp.expand(expr) == 0:
+            return True
+    except Exception:  # pragma: no cover - expand never fails on our expressions
+        pass
+    import random
+
+    rng = random.Random(12345)
+    syms = sorted(expr.free_symbols, key=lambda s: s.name)
+    for _ in range(4):
+        subs = {s: rng.uniform(0.3, 1.7) for s in syms}
+        try:
+            value = complex(expr.evalf(subs=subs))
+        except (TypeError, ValueError):
+            return False
+        if abs(value) > 1e-12:
+            return False
+    return True
+
+
+class _Normalizer:
+    """Fills a Model's fields with normalized SymPy objects; collects every problem."""
+
+    def __init__(self, model: Model, problems: list[str]):
+        self.m, self.problems = model, problems
+
+    def set(self, name: str, value: Any) -> None:
+        object.__setattr__(self.m, name, value)
+
+    def expr(self, value: Any, where: str, order: int = 1) -> sp.Expr | None:
+        try:
+            return _to_expr(value, self.m.names(order), where, self.m.coordinates)
+        except ExpressionError as exc:
+            self.problems.extend(exc.problems)
+            return None
+
+    def run(self) -> None:
+        self.names_and_parameters()
+        if self.problems:
+            return
+        self.energy_and_forces()
+        self.bodies_and_loads()
+        self.constraints()
+        self.contacts()
+        self.initial_and_settings()
+
+    # -- names
+    def names_and_parameters(self) -> None:
+        m = self.m
+        coords = m.coordinates
+        if isinstance(coords, str):
+            coords = (coords,)
+        self.set("coordinates", tuple(coords))
+        if not m.coordinates:
+            self.problems.append("[coordinates] q: at least one coordinate is required")
+        seen: set[str] = set()
+        for c in m.coordinates:
+            if not isinstance(c, str) or not is_identifier(c):
+                self.problems.append(
+                    f"[coordinates] q: {c!r} is not a valid name (letters, digits, _; "
+                    "not starting with a digit)"
+                )
+            elif c in RESERVED_NAMES:
+                self.problems.append(f"[coordinates] q: '{c}' is reserved; choose another name")
+            elif c in seen:
+                self.problems.append(f"[coordinates] q: '{c}' appears twice")
+            seen.add(c)
+        params: dict[str, Parameter] = {}
+        for name, value in dict(m.parameters).items():
+            where = f"[parameters] {name}"
+            if not isinstance(name, str) or not is_identifier(name):
+                self.problems.append(f"{where}: not a valid name")
+                continue
+            if name in RESERVED_NAMES:
+                self.problems.append(f"{where}: '{name}' is reserved; choose another name")
+                continue
+            if name in seen:
+                self.problems.append(f"{where}: '{name}' is also a coordinate")
+                continue
+            if isinstance(value, Parameter):
+                p = value
+            elif isinstance(value, Mapping):
+                p = Parameter(name, value.get("value"), str(value.get("unit", "")),
+                              str(value.get("description", "")))
+            else:
+                p = Parameter(name, value)
+            if isinstance(p.value, bool) or not isinstance(p.value, (int, float)) or not math.isfinite(p.value):
+                self.problems.append(f"{where}: value must be a finite number (got {p.value!r})")
+                continue
+            params[name] = Parameter(name, float(p.value), p.unit, p.description)
+        self.set("parameters", params)
+
+    # -- energy
+    def energy_and_forces(self) -> None:
+        m = self.m
+        kin = self.expr(m.kinetic, "[energy] kinetic", 1)
+        pot = self.expr(m.potential, "[energy] potential", 0)
+        self.set("kinetic", kin if kin is not None else sp.Integer(0))
+        self.set("potential", pot if pot is not None else sp.Integer(0))
+        forces = m.forces
+        if isinstance(forces, Mapping):
+            bad = [k for k in forces if k not in m.coordinates]
+            for k in bad:
+                self.problems.append(
+                    f"[forces] {k}: not a coordinate{did_you_mean(str(k), m.coordinates)}; "
+                    "generalized forces are given per coordinate"
+                )
+            forces = [forces.get(c, 0) for c in m.coordinates]
+        forces = list(forces)
+        if len(forces) != m.n_q:
+            self.problems.append(f"[forces]: expected {m.n_q} entries, got {len(forces)}")
+            forces = [0] * m.n_q
+        out = []
+        for c, f in zip(m.coordinates, forces):
+            e = self.expr(f, f"[forces] {c}", 1)
+            out.append(e if e is not None else sp.Integer(0))
+        self.set("forces", tuple(out))
+
+    def vector(self, values: Any, where: str, sizes: tuple[int, ...], order: int = 0):
+        values = list(values) if not isinstance(values, str) else [values]
+        if len(values) not in sizes:
+            self.problems.append(
+                f"{where}: expected {' or '.join(map(str, sizes))} components, got {len(values)}"
+            )
+            return None
+        out = [self.expr(v, f"{where}[{i}]", order) for i, v in enumerate(values)]
+        return None if any(e is None for e in out) else tuple(out)
+
+    def bodies_and_loads(self) -> None:
+        m = self.m
+        bodies, names = [], set()
+        for b in m.bodies:
+            where = f"body '{getattr(b, 'name', '?')}'"
+            if b.name in names:
+                self.problems.append(f"{where}: duplicate body name")
+            names.add(b.name)
+            mass = self.expr(b.mass, f"{where}: mass", 0)
+            if isinstance(b, Particle):
+                pos = self.vector(b.position, f"{where}: position", (2, 3))
+                if mass is not None and pos is not None:
+                    bodies.append(Particle(b.name, mass, pos))
+            elif isinstance(b, PlanarBody):
+                pos = self.vector(b.position, f"{where}: position", (2,))
+                inertia = self.expr(b.inertia, f"{where}: inertia", 0)
+                angle = self.expr(b.angle, f"{where}: angle", 0)
+                if None not in (mass, pos, inertia, angle):
+                    bodies.append(PlanarBody(b.name, mass, inertia, pos, angle))
+            elif isinstance(b, RigidBody):
+                pos = self.vector(b.position, f"{where}: position", (3,))
+                rows_i = [self.vector(r, f"{where}: inertia", (3,)) for r in b.inertia]
+                rows_r = [self.vector(r, f"{where}: rotation", (3,)) for r in b.rotation]
+                if len(rows_i) != 3 or len(rows_r) != 3:
+                    self.problems.append(f"{where}: inertia and rotation must be 3x3")
+                elif None not in (mass, pos, *rows_i, *rows_r):
+                    bodies.append(RigidBody(b.name, mass, tuple(rows_i), pos, tuple(rows_r)))
+            else:
+                self.problems.append(f"{where}: not a Particle, PlanarBody or RigidBody")
+        self.set("bodies", tuple(bodies))
+        if m.gravity is not None:
+            self.set("gravity", self.vector(m.gravity, "[gravity] vector", (2, 3)))
+        loads = []
+        body_names = {b.name: b for b in bodies}
+        for ld in m.loads:
+            where = f"load '{getattr(ld, 'name', '?')}'"
+            if isinstance(ld, Force):
+                pt = self.vector(ld.point, f"{where}: point", (2, 3))
+                fv = self.vector(ld.force, f"{where}: force", (2, 3), order=1)
+                if pt is not None and fv is not None:
+                    if len(pt) != len(fv):
+                        self.problems.append(f"{where}: point and force have different dimensions")
+                    else:
+                        loads.append(Force(ld.name, pt, fv))
+            elif isinstance(ld, Torque):
+                if ld.body is not None:
+                    if ld.body not in body_names or not isinstance(body_names[ld.body], RigidBody):
+                        self.problems.append(
+                            f"{where}: body '{ld.body}' is not a RigidBody of this model"
+                            + did_you_mean(ld.body, body_names)
+                        )
+                        continue
+                    tq = self.vector(ld.torque, f"{where}: torque", (3,), order=1)
+                    if tq is not None:
+                        loads.append(Torque(ld.name, tq, None, ld.body))
+                else:
+                    tq = self.expr(ld.torque, f"{where}: torque", 1)
+                    ang = self.expr(ld.angle, f"{where}: angle", 0) if ld.angle is not None else None
+                    if ld.angle is None:
+                        self.problems.append(f"{where}: a planar torque needs 'angle' (or 'body')")
+                    elif tq is not None and ang is not None:
+                        loads.append(Torque(ld.name, tq, ang, None))
+            else:
+                self.problems.append(f"{where}: not a Force or Torque")
+        self.set("loads", tuple(loads))
+
+    # -- constraints
+    def constraints(self) -> None:
+        m = self.m
+        out, names = [], set()
+        for c in m.constraints:
+            where = f"constraint '{c.name}'"
+            if not isinstance(c.name, str) or not is_identifier(c.name):
+                self.problems.append(f"{where}: name must be an identifier (letters, digits, _)")
+                continue
+            if c.name in names:
+                self.problems.append(f"{where}: duplicate constraint name")
+            names.add(c.name)
+            if c.kind not in ("auto",) + CONSTRAINT_TYPES:
+                self.problems.append(
+                    f"{where}: type '{c.kind}' unknown{did_you_mean(c.kind, CONSTRAINT_TYPES)}; "
+                    "use holonomic, nonholonomic or servo"
+                )
+                continue
+            expr = self.expr(c.expr, f"{where}: expr", 2)
+            if expr is None:
+                continue
+            order = _derivative_order(expr, m.coordinates)
+            kind = c.kind
+            if kind == "holonomic" and order > 0:
+                self.problems.append(
+                    f"{where}: declared holonomic but contains velocities or accelerations; "
+                    "declare it nonholonomic"
+                )
+                continue
+            if kind == "nonholonomic" and order == 0:
+                self.problems.append(
+                    f"{where}: declared nonholonomic but contains no velocities; declare it holonomic"
+                )
+                continue
+            if kind == "servo" and c.reaction is None:
+                self.problems.append(
+                    f"{where}: a servo-constraint needs 'reaction' (the generalized direction "
+                    "of the control force, one entry per coordinate)"
+                )
+                continue
+            if order == 2:
+                acc = [a for a in m.qdd if a in expr.free_symbols]
+                if any(sp.diff(expr, a, b) != 0 for a in acc for b in acc):
+                    self.problems.append(f"{where}: a second-order constraint must be linear in the accelerations")
+                    continue
+            if _identically_zero(expr):
+                self.problems.append(f"{where}: the expression is identically zero; remove the constraint")
+                continue
+            if c.unilateral and order > 0:
+                self.problems.append(
+                    f"{where}: only holonomic constraints can be unilateral (expr >= 0)"
+                )
+                continue
+            reaction = None
+            if c.reaction is not None:
+                reaction = self.vector(c.reaction, f"{where}: reaction", (m.n_q,), order=1)
+                if reaction is None:
+                    continue
+                if all(r == 0 for r in reaction):
+                    self.problems.append(f"{where}: reaction direction is zero")
+                    continue
+            transform = None
+            if c.transform is not None:
+                rows = [self.vector(r, f"{where}: transform", (m.n_q,), order=1) for r in c.transform]
+                if len(rows) != m.n_q:
+                    self.problems.append(f"{where}: transform must be {m.n_q}x{m.n_q}")
+                    continue
+                if any(r is None for r in rows):
+                    continue
+                transform = tuple(rows)
+                if c.reaction is not None:
+                    self.problems.append(f"{where}: give either 'reaction' (servo) or 'transform' (quasi-ideal), not both")
+                    continue
+            kind = "holonomic" if order == 0 else "nonholonomic"
+            restitution = float(c.restitution)
+            if not 0.0 <= restitution <= 1.0:
+                self.problems.append(f"{where}: restitution must lie in [0, 1] (got {restitution})")
+                continue
+            out.append(Constraint(c.name, expr, kind, bool(c.unilateral), reaction, transform,
+                                  restitution=restitution, order=order))
+        self.set("constraints", tuple(out))
+
+    def contacts(self) -> None:
+        m = self.m
+        out, names = [], {c.name for c in m.constraints}
+        for ct in m.contacts:
+            where = f"contact '{ct.name}'"
+            if not isinstance(ct.name, str) or not is_identifier(ct.name):
+                self.problems.append(f"{where}: name must be an identifier")
+                continue
+            if ct.name in names:
+                self.problems.append(f"{where}: name already used by a constraint or contact")
+                continue
+            names.add(ct.name)
+            gap = self.expr(ct.gap, f"{where}: gap", 2)
+            if gap is None:
+                continue
+            if _derivative_order(gap, m.coordinates) > 0:
+                self.problems.append(
+                    f"{where}: the gap must be a function of the coordinates and time only "
+                    "(it contains velocities)"
+                )
+                continue
+            if _identically_zero(gap) or not (gap.free_symbols & set(m.q)):
+                self.problems.append(
+                    f"{where}: the gap does not depend on the coordinates, so no normal force "
+                    "can be identified; write the normal distance, e.g. gap = \"y\""
+                )
+                continue
+            slips = []
+            if not 1 <= len(ct.slip) <= 2:
+                self.problems.append(f"{where}: slip must have 1 or 2 components (got {len(ct.slip)})")
+                continue
+            for i, s in enumerate(ct.slip):
+                e = self.expr(s, f"{where}: slip[{i}]", 2)
+                if e is None:
+                    continue
+                if _derivative_order(e, m.coordinates) == 2:
+                    self.problems.append(f"{where}: slip[{i}] must not contain accelerations")
+                    continue
+                if any(sp.diff(e, a, b) != 0 for a in m.qd for b in m.qd if a in e.free_symbols):
+                    self.problems.append(
+                        f"{where}: slip[{i}] = {e} is not linear in the velocities; a slip "
+                        "velocity is W(q,t) q' + w0"
+                    )
+                    continue
+                if not (e.free_symbols & set(m.qd)):
+                    self.problems.append(
+                        f"{where}: slip[{i}] = {e} contains no velocity; it must be the "
+                        "tangential velocity of the contact point"
+                    )
+                    continue
+                slips.append(e)
+            if len(slips) != len(ct.slip):
+                continue
+            friction = self.friction(ct.friction, where)
+            impact = ct.impact
+            if not isinstance(impact, (Plastic, Newton)):
+                self.problems.append(f"{where}: impact must be Plastic() or Newton(e)")
+                continue
+            if not 0.0 <= float(impact.restitution) <= 1.0:
+                self.problems.append(f"{where}: restitution must lie in [0, 1] (got {impact.restitution})")
+                continue
+            if friction is None:
+                continue
+            out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral)))
+        self.set("contacts", tuple(out))
+
+    def friction(self, law: Any, where: str):
+        pvals = {sp.Symbol(n): p.value for n, p in self.m.parameters.items()}
+
+        def coefficient(value: Any, key: str):
+            e = self.expr(value, f"{where}: {key}", 0)
+            if e is None:
+                return None
+            if not e.free_symbols & set(self.m.q):
+                v = e.subs(pvals)
+                if v.is_number and float(v) < 0:
+                    self.problems.append(
+                        f"{where}: {key} = {float(v):g} is negative; a friction coefficient "
+                        "is >= 0"
+                    )
+                    return None
+            return e
+
+        if isinstance(law, Coulomb):
+            mu = coefficient(law.mu, "mu")
+            mus = coefficient(law.mu_static if law.mu_static is not None else law.mu, "mu_static")
+            if mu is None or mus is None:
+                return None
+            return Coulomb(mu, mus)
+        if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)):
+            mu = coefficient(law.mu, "mu")
+            if mu is None:
+                return None
+            if not float(law.eps) > 0:
+                self.problems.append(f"{where}: eps must be > 0 (got {law.eps})")
+                return None
+            return type(law)(mu, float(law.eps))
+        self.problems.append(
+            f"{where}: friction must be Coulomb, RegularizedCoulomb or LinearizedCoulomb"
+        )
+        return None
+
+    # -- initial state and settings
+    def initial_and_settings(self) -> None:
+        m = self.m
+        allowed = set(m.coordinates) | {c + "'" for c in m.coordinates}
+        names = {n: sp.Symbol(n) for n in m.parameters}
+        out = {}
+        for key, value in dict(m.initial).items():
+            where = f"[initial] {key}"
+            if key not in allowed:
+                self.problems.append(
+                    f"{where}: not a coordinate or velocity{did_you_mean(str(key), allowed)}"
+                )
+                continue
+            try:
+                e = _to_expr(value, names, where, ())
+            except ExpressionError as exc:
+                self.problems.extend(exc.problems)
+                continue
+            if e.free_symbols - set(names.values()):
+                self.problems.append(f"{where}: initial values may use parameters only")
+                continue
+            val = e.subs({sp.Symbol(n): p.value for n, p in m.parameters.items()})
+            if not val.is_real or not math.isfinite(float(val)):
+                self.problems.append(f"{where}: value is not a finite real number")
+                continue
+            out[key] = e
+        self.set("initial", out)
+        if m.independent is not None:
+            ind = tuple(m.independent)
+            for name in ind:
+                if name not in m.coordinates:
+                    self.problems.append(
+                        f"[forms] independent: '{name}' is not a coordinate"
+                        + did_you_mean(str(name), m.coordinates)
+                    )
+            self.set("independent", ind)
+        sim = m.simulation
+        if isinstance(sim, Mapping):
+            try:
+                sim = SimulationSettings(**sim)
+            except TypeError as exc:
+                self.problems.append(f"[simulation]: {exc}")
+                sim = SimulationSettings()
+        if sim.method not in METHODS:
+            self.problems.append(
+                f"[simulation] method: '{sim.method}' unknown{did_you_mean(sim.method, METHODS)}; "
+                f"choose one of {', '.join(METHODS)}"
+            )
+        for key in ("rtol", "atol"):
+            v = getattr(sim, key)
+            if not (isinstance(v, (int, float)) and 0 < v < 1):
+                self.problems.append(f"[simulation] {key}: must be a number in (0, 1) (got {v!r})")
+        if sim.t_end is not None and not (isinstance(sim.t_end, (int, float)) and sim.t_end > m.t0):
+            self.problems.append(f"[simulation] t_end: must be a number > t0 = {m.t0} (got {sim.t_end!r})")
+        self.set("simulation", sim)

@@ -1,0 +1,84 @@
+"""Plots of a trajectory: coordinates, velocities, reactions, energy balance, modes."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+__all__ = ["plot_trajectory"]
+
+
+def plot_trajectory(traj, path, title: str | None = None) -> None:
+    """Write a PNG with the coordinates, velocities, multipliers/contact forces and energy.
+
+    Event times are marked with vertical lines; contact modes (when there are contacts) are
+    drawn as a timeline.
+    """
+    has_contacts = bool(traj.contacts)
+    panels = 4 + (1 if has_contacts else 0)
+    fig, axes = plt.subplots(panels, 1, figsize=(8, 2.3 * panels), sharex=True)
+    t = traj.t
+    ax = axes[0]
+    for i, c in enumerate(traj.coordinates):
+        ax.plot(t, traj.q[:, i], label=c)
+    ax.set_ylabel("coordinates")
+    ax.legend(loc="best", fontsize=8, ncol=min(4, len(traj.coordinates)))
+    ax = axes[1]
+    for i, c in enumerate(traj.coordinates):
+        ax.plot(t, traj.qd[:, i], label=c + "'")
+    ax.set_ylabel("velocities")
+    ax.legend(loc="best", fontsize=8, ncol=min(4, len(traj.coordinates)))
+    ax = axes[2]
+    for name, values in traj.multipliers.items():
+        ax.plot(t, values, label=f"λ {name}")
+    for name, c in traj.contacts.items():
+        ax.plot(t, c["normal"], label=f"N {name}")
+        fr = np.asarray(c["friction"], dtype=float)
+        if fr.ndim == 2:
+            for k in range(fr.shape[1]):
+                ax.plot(t, fr[:, k], "--", label=f"F {name}[{k}]")
+    ax.set_ylabel("reactions")
+    if ax.lines:
+        ax.legend(loc="best", fontsize=8, ncol=2)
+    ax = axes[3]
+    e = traj.energy
+    ax.plot(t, e["kinetic"], label="T")
+    ax.plot(t, e["potential"], label="V")
+    if np.any(e["friction_work"]):
+        ax.plot(t, e["friction_work"], label="friction work")
+    if np.any(e["reaction_work"]):
+        ax.plot(t, e["reaction_work"], label="reaction work")
+    ax2 = ax.twinx()
+    ax2.plot(t, e["balance"], color="0.5", lw=0.8, label="balance residual")
+    ax2.set_ylabel("balance residual", color="0.5")
+    ax.set_ylabel("energy")
+    ax.legend(loc="best", fontsize=8)
+    if has_contacts:
+        ax = axes[4]
+        names = list(traj.contacts)
+        palette = {"separated": "#dddddd", "stick": "#2a9d8f", "slide+": "#e76f51",
+                   "slide-": "#f4a261", "slide": "#e9c46a"}
+        for k, name in enumerate(names):
+            modes = traj.contacts[name]["mode"]
+            start = 0
+            for j in range(1, len(t) + 1):
+                if j == len(t) or modes[j] != modes[start]:
+                    ax.barh(k, t[min(j, len(t) - 1)] - t[start], left=t[start],
+                            color=palette.get(modes[start], "#999999"), edgecolor="none")
+                    start = j
+        ax.set_yticks(range(len(names)), names)
+        handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in palette.values()]
+        ax.legend(handles, list(palette), fontsize=7, ncol=5, loc="upper right")
+        ax.set_ylabel("contact mode")
+    for a in axes:
+        for ev in traj.events:
+            a.axvline(ev["t"], color="k", lw=0.5, alpha=0.4)
+        a.grid(alpha=0.3)
+    axes[-1].set_xlabel("t")
+    fig.suptitle(title or traj.model)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110, format="png")
+    plt.close(fig)

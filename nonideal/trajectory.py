@@ -1,0 +1,183 @@
+"""Results of a simulation: :class:`Trajectory` (immutable arrays) and its outputs.
+
+Besides ``t, q, q'`` it holds, at every sample, the accelerations, the multiplier of every
+constraint (zero while a unilateral constraint is released), the mode, the energy terms and
+the events.  Energy: with ``T = T2 + T1 + T0`` the balance checked is
+
+    d/dt (T2 - T0 + V) = Q_nc . q' + R . q' + dV/dt - dT/dt
+
+(Jacobi's integral generalized; for scleronomic systems it is ``d(T + V)/dt`` = power of the
+non-potential forces and reactions).  ``balance`` is the residual of its integral, which
+should be at the integrator's tolerance.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = ["Sample", "Trajectory"]
+
+
+@dataclass(frozen=True)
+class Sample:
+    t: float
+    y: np.ndarray
+    mode: Any
+
+
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """An immutable simulation result.
+
+    Attributes
+    ----------
+    model : str
+    coordinates : tuple of str
+    t : ndarray, shape (N,)
+    q, qd, qdd : ndarray, shape (N, n_q)
+    modes : list of str
+    multipliers : dict name -> ndarray (N,)
+    energy : dict name -> ndarray (N,) -- ``kinetic``, ``potential``, ``energy`` (T2 - T0 + V),
+        ``active_work``, ``reaction_work``, ``friction_work``, ``explicit_time_work``, ``balance``
+    events : list of dict
+    diagnostics : dict
+    contacts : dict name -> dict of arrays (``normal``, ``friction``, ``slip``, ``mode``)
+    """
+
+    model: str
+    coordinates: tuple[str, ...]
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    modes: list[str]
+    multipliers: dict[str, np.ndarray]
+    energy: dict[str, np.ndarray]
+    events: list[dict]
+    diagnostics: dict[str, Any]
+    contacts: dict[str, dict[str, Any]] = field(default_factory=dict)
+
+    # ---------------------------------------------------------------- construction
+    @classmethod
+    def from_samples(cls, sim, samples, events, diagnostics, residual_max) -> "Trajectory":
+        kernel, solver = sim.kernel, sim.solver
+        n = kernel.n
+        N = len(samples)
+        t = np.array([s.t for s in samples])
+        Y = np.array([s.y for s in samples]) if N else np.zeros((0, 2 * n))
+        q, qd = Y[:, :n], Y[:, n:2 * n]
+        qdd = np.zeros((N, n))
+        rows = kernel.rows
+        mult = {r.name: np.zeros(N) for r in rows}
+        T = np.zeros(N)
+        V = np.zeros(N)
+        E = np.zeros(N)
+        res_p = res_v = 0.0
+        for k, s in enumerate(samples):
+            sol = solver.solve(s.t, q[k], qd[k], s.mode)
+            qdd[k] = sol.qdd
+            for j, i in enumerate(sol.rows):
+                mult[rows[i].name][k] = sol.multipliers[j]
+            obs = kernel.observables(solver.input(s.t, q[k], qd[k]))
+            T[k], V[k] = obs["T"], obs["V"]
+            T2 = 0.5 * qd[k] @ sol.M @ qd[k]
+            E[k] = T2 - obs["T0"] + V[k]
+            pos = [i for i in sol.rows if rows[i].position is not None]
+            vel = [i for i in sol.rows if rows[i].velocity is not None]
+            if pos:
+                res_p = max(res_p, float(np.max(np.abs(obs["pos"][pos]))))
+            if vel:
+                res_v = max(res_v, float(np.max(np.abs(obs["vel"][vel]))))
+        works = Y[:, 2 * n:2 * n + 3] if Y.shape[1] > 2 * n else np.zeros((N, 3))
+        W_nc, W_R, W_t = works[:, 0], works[:, 1], works[:, 2]
+        W_f = np.zeros(N)
+        balance = (E - E[0]) - (W_nc + W_R + W_t + W_f) if N else np.zeros(0)
+        scale = max(1e-300, float(np.max(np.abs(np.concatenate((E, T, V, W_nc, W_R, W_t))))) if N else 1.0)
+        energy = {
+            "kinetic": T, "potential": V, "energy": E, "active_work": W_nc,
+            "reaction_work": W_R, "friction_work": W_f, "explicit_time_work": W_t,
+            "balance": balance,
+        }
+        diag = dict(diagnostics)
+        diag.update(
+            constraint_residual_max=max(res_p, res_v, residual_max["position"], residual_max["velocity"]),
+            position_residual_max=max(res_p, residual_max["position"]),
+            velocity_residual_max=max(res_v, residual_max["velocity"]),
+            energy_balance_max=float(np.max(np.abs(balance))) if N else 0.0,
+            energy_balance_relative=float(np.max(np.abs(balance)) / scale) if N else 0.0,
+            samples=N,
+        )
+        return cls(kernel.model.name, tuple(kernel.model.coordinates), t, q, qd, qdd,
+                   [s.mode.label() for s in samples], mult, energy, list(events), diag)
+
+    # ---------------------------------------------------------------- access
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def coordinate(self, name: str) -> np.ndarray:
+        return self.q[:, self.coordinates.index(name)]
+
+    def velocity(self, name: str) -> np.ndarray:
+        return self.qd[:, self.coordinates.index(name)]
+
+    def at(self, name: str, k: int = -1) -> float:
+        """Value of a coordinate (``"x"``) or velocity (``"x'"``) at sample *k*."""
+        if name.endswith("'"):
+            return float(self.velocity(name[:-1])[k])
+        return float(self.coordinate(name)[k])
+
+    # ---------------------------------------------------------------- outputs
+    def to_dict(self) -> dict[str, Any]:
+        """The SPEC's JSON structure of ``simulate``."""
+        def arr(a):
+            return [float(x) for x in a]
+        return {
+            "model": self.model,
+            "t": arr(self.t),
+            "q": {c: arr(self.q[:, i]) for i, c in enumerate(self.coordinates)},
+            "qdot": {c: arr(self.qd[:, i]) for i, c in enumerate(self.coordinates)},
+            "qddot": {c: arr(self.qdd[:, i]) for i, c in enumerate(self.coordinates)},
+            "multipliers": {k: arr(v) for k, v in self.multipliers.items()},
+            "contacts": {name: {key: (val if isinstance(val, list) else arr(val))
+                                for key, val in c.items()} for name, c in self.contacts.items()},
+            "modes": list(self.modes),
+            "events": [_jsonable(e) for e in self.events],
+            "energy": {k: arr(v) for k, v in self.energy.items()},
+            "diagnostics": _jsonable(self.diagnostics),
+        }
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), indent=1)
+
+    def to_csv(self, path) -> None:
+        """One row per sample: t, q, q', q'', multipliers, energy terms, mode."""
+        header = ["t"] + list(self.coordinates) + [c + "'" for c in self.coordinates] \
+            + [c + "''" for c in self.coordinates] + [f"lambda_{k}" for k in self.multipliers] \
+            + list(self.energy) + ["mode"]
+        with open(path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(header)
+            for k in range(len(self.t)):
+                row = [self.t[k], *self.q[k], *self.qd[k], *self.qdd[k]]
+                row += [v[k] for v in self.multipliers.values()]
+                row += [v[k] for v in self.energy.values()]
+                w.writerow([f"{x:.17g}" for x in row] + [self.modes[k]])
+
+
+def _jsonable(obj):
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_jsonable(v) for v in obj]
+    if isinstance(obj, (np.floating, np.integer)):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, float) and not np.isfinite(obj):
+        return str(obj)
+    return obj
