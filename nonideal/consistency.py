@@ -9,6 +9,7 @@ and the residual; it is never silently "fixed" beyond round-off (relative 1e-9).
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -103,25 +104,37 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     problems = []
 
     pos_rows = [i for i in active if rows[i].position is not None]
-    q, qd, ok = _solve_level(kernel, pos_rows, miss_q, t0, q, qd, params, "pos")
-    dyn, obs = _eval(kernel, t0, q, qd, params)
-    if miss_q and (not ok or np.linalg.matrix_rank(dyn["G"][pos_rows][:, miss_q]) < len(miss_q)
-                   if pos_rows else True):
+    start_q = q.copy()
+
+    def determined(rows_used, q_try):
+        dyn_, _ = _eval(kernel, t0, q_try, qd, params)
+        return bool(rows_used) and np.linalg.matrix_rank(dyn_["G"][rows_used][:, miss_q]) == len(miss_q)
+
+    q, qd, ok = _solve_level(kernel, pos_rows, miss_q, t0, start_q, qd, params, "pos")
+    if miss_q and not (ok and determined(pos_rows, q)):
+        # close unilateral constraints (contacts assumed closed at t0), smallest sets first
+        found = False
         extra = [i for i in unilateral if i not in active]
-        if extra:
-            pos2 = pos_rows + extra
-            q2 = np.array([given.get(c, (guess or {}).get(c, 0.1)) for c in names], dtype=float)
-            q2, qd, ok2 = _solve_level(kernel, pos2, miss_q, t0, q2, qd, params, "pos")
-            dyn, obs = _eval(kernel, t0, q2, qd, params)
-            if ok2 and np.linalg.matrix_rank(dyn["G"][pos2][:, miss_q]) == len(miss_q):
-                q, ok, pos_rows, active = q2, True, pos2, list(active) + extra
-        dyn, obs = _eval(kernel, t0, q, qd, params)
-        if not ok or (pos_rows and np.linalg.matrix_rank(dyn["G"][pos_rows][:, miss_q]) < len(miss_q)) \
-                or not pos_rows:
+        for k in range(1, len(extra) + 1):
+            for subset in itertools.combinations(extra, k):
+                rows_try = pos_rows + list(subset)
+                if len(rows_try) < len(miss_q):
+                    continue
+                q2, qd, ok2 = _solve_level(kernel, rows_try, miss_q, t0, start_q, qd, params, "pos")
+                if not (ok2 and determined(rows_try, q2)):
+                    continue
+                _, obs2 = _eval(kernel, t0, q2, qd, params)
+                if all(obs2["pos"][i] >= -GIVEN_TOL * _scale(q2) for i in unilateral):
+                    q, pos_rows, active, found = q2, rows_try, list(active) + list(subset), True
+                    break
+            if found:
+                break
+        if not found:
             missing = [names[i] for i in miss_q]
             raise InconsistentInitialConditions(
                 f"[initial]: coordinates {missing} are not given and cannot be determined from "
                 "the constraints; give them in [initial]", _src(model))
+    dyn, obs = _eval(kernel, t0, q, qd, params)
     scale = _scale(q)
     for i in pos_rows:
         res = obs["pos"][i]

@@ -87,7 +87,8 @@ class ModeSolver:
         self.model = kernel.model
         self.bilateral = [i for i, r in enumerate(kernel.rows) if not r.unilateral]
         self.unilateral = [i for i, r in enumerate(kernel.rows) if r.unilateral]
-        self._forms: dict[Mode, FormSystem] = {}
+        self._forms: dict[tuple, FormSystem] = {}
+        self._active: dict[Mode, FormSystem] = {}
         self.x = kernel.layout.make(params)
 
     def rows(self, mode: Mode) -> list[int]:
@@ -102,13 +103,44 @@ class ModeSolver:
         x[1 + n:1 + 2 * n] = qd
         return x
 
-    def form_system(self, mode: Mode) -> FormSystem:
-        fs = self._forms.get(mode)
+    def form_system(self, mode: Mode, independent=None) -> FormSystem:
+        """The compiled form for *mode* (derived once per mode and choice of independent
+        coordinates)."""
+        independent = independent if independent is not None else self.independent
+        key = (mode, independent)
+        fs = self._forms.get(key)
         if fs is None:
             rows = [self.kernel.rows[i] for i in self.rows(mode)]
-            eom = derive(self.model, self.form, rows=rows, independent=self.independent)
+            eom = derive(self.model, self.form, rows=rows, independent=independent)
             fs = FormSystem(eom)
-            self._forms[mode] = fs
+            self._forms[key] = fs
+            if independent is None:
+                self._forms[(mode, eom.independent)] = fs
+        return fs
+
+    def _current_form(self, mode: Mode, G: np.ndarray, idx: list[int]) -> FormSystem:
+        """The form for *mode*; when the user did not fix the independent coordinates and the
+        dependent block of the current choice is ill-conditioned at this state, re-partition
+        (pivoted QR at the state) -- coordinate partitioning, as in multibody codes."""
+        fs = self._active.get(mode) or self.form_system(mode)
+        if self.independent is not None or not fs.eom.eliminated:
+            self._active[mode] = fs
+            return fs
+        ideal = [i for i in idx if self.kernel.rows[i].reaction_kind == "ideal"]
+        if not ideal:
+            return fs
+        coords = list(self.model.coordinates)
+        Gi = G[ideal]
+        dep = [coords.index(c) for c in coords if c not in fs.eom.independent]
+        s_all = np.linalg.svd(Gi, compute_uv=False)
+        s_dep = np.linalg.svd(Gi[:, dep], compute_uv=False)
+        if s_dep[-1] < 1e-3 * s_all[0]:
+            from scipy.linalg import qr
+            _, _, piv = qr(Gi, pivoting=True)
+            new_dep = sorted(piv[:len(ideal)])
+            ind = tuple(c for j, c in enumerate(coords) if j not in new_dep)
+            fs = self.form_system(mode, ind)
+        self._active[mode] = fs
         return fs
 
     def accelerations(self, t: float, q: np.ndarray, qd: np.ndarray, mode: Mode):
@@ -127,7 +159,8 @@ class ModeSolver:
                 else:
                     qdd, mu = solve_saddle(M, F)
                 return qdd, mu, idx, out, None
-            fs = self.form_system(mode)
+            G = out["G"] if self.kernel.m else np.zeros((0, self.kernel.n))
+            fs = self._current_form(mode, G, idx)
             _, mu_form, qdd = fs.solve(x)
             return qdd, None, idx, out, dict(zip(fs.eom.constraint_names, map(float, mu_form)))
         except SingularMatrix:

@@ -133,9 +133,14 @@ class Simulation:
         record = ev.record(t)
         if isinstance(ev, Touch):
             rest = {i: c.restitution for i, c in self._restitution.items()}
+            e_before = self._energy(t, q, qd)
             vel = self.kernel.observables(self.solver.input(t, q, qd))["vel"][ev.row]
             qd, impulses = impact(self.solver, t, q, qd, [ev.row], rest)
-            record.update(normal_velocity=float(vel), impulses=impulses)
+            loss = self._energy(t, q, qd) - e_before
+            record.update(normal_velocity=float(vel), impulses=impulses, energy_change=float(loss))
+            if self.track:
+                y = y.copy()
+                y[2 * n + 1] += loss  # work of the impulsive reactions
             new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8)
         else:
             held = set(mode.held) - {ev.name}
@@ -151,6 +156,13 @@ class Simulation:
         y[:n], y[n:2 * n] = q, qd
         record["mode"] = new.label()
         return y, new, record
+
+    def _energy(self, t, q, qd) -> float:
+        """Jacobi's energy ``T2 - T0 + V`` at a state."""
+        x = self.solver.input(t, q, qd)
+        M = self.kernel.dynamics(x)["M"]
+        obs = self.kernel.observables(x)
+        return float(0.5 * qd @ M @ qd - obs["T0"] + obs["V"])
 
     @property
     def _restitution(self):
@@ -259,7 +271,7 @@ class Simulation:
                     if ga <= 0:
                         te = a
                     else:
-                        te = brentq(g, a, b, xtol=1e-15 * max(1.0, abs(b)), rtol=4.5e-16, maxiter=200)
+                        te = brentq(g, a, b, xtol=1e-15 * max(1.0, abs(b)), rtol=8.9e-16, maxiter=200)
                     hits.append((te, k))
                 if hits:
                     te, k = min(hits)

@@ -55,14 +55,27 @@ def split_rows(rows: list[ConstraintRow]) -> tuple[list[ConstraintRow], list[Con
 # ----------------------------------------------------------------------------- numerics helpers
 
 
-def numeric_instances(dyn: Dynamics, exprs: list, count: int = 2, seed: int = 7) -> list[np.ndarray]:
-    """Evaluate expressions at *count* generic points (random q, q', t; parameter values)."""
+def numeric_instances(dyn: Dynamics, exprs: list, count: int = 2, seed: int = 7,
+                      with_initial: bool = False) -> list[np.ndarray]:
+    """Evaluate expressions at *count* generic points (random q, q', t; parameter values).
+
+    With ``with_initial`` the first point takes the coordinates of the model's initial state
+    when they are all given (so that choices made from these values suit the simulation).
+    """
     rng = random.Random(seed)
     syms = dyn.q + dyn.qd + dyn.qdd + [dyn.t]
     pvals = dict(zip(dyn.params, dyn.model.parameter_values.values()))
+    init = {}
+    if with_initial:
+        values = dyn.model.numeric_initial()
+        if all(c in values for c in dyn.model.coordinates):
+            init = {s: values[c] for s, c in zip(dyn.q, dyn.model.coordinates)}
+            init[dyn.t] = dyn.model.t0
     out = []
-    for _ in range(count):
+    for k in range(count + (1 if init else 0)):
         subs = {s: rng.uniform(0.2, 1.1) * rng.choice((-1, 1)) for s in syms}
+        if k == 0 and init:
+            subs.update(init)
         subs.update(pvals)
         vals = []
         for e in exprs:
@@ -109,7 +122,7 @@ def _choose_dependent(dyn: Dynamics, G: list[list], names: list[str],
     m, n = len(G), dyn.n
     coords = list(dyn.model.coordinates)
     flat = [G[i][j] for i in range(m) for j in range(n)]
-    inst = [x.reshape(m, n) for x in numeric_instances(dyn, flat, count=2)]
+    inst = [x.reshape(m, n) for x in numeric_instances(dyn, flat, count=2, with_initial=True)]
     if independent is not None:
         ind = [coords.index(c) for c in independent]
         dep = [j for j in range(n) if j not in ind]
@@ -142,7 +155,7 @@ def _choose_dependent(dyn: Dynamics, G: list[list], names: list[str],
                 if min(mags) < 1e-6:
                     continue
                 cnnz = sum(pattern[r][j] for r in rows_left)
-                key = ((rnnz - 1) * (cnnz - 1), ops[i][j], -j)
+                key = ((rnnz - 1) * (cnnz - 1), -round(mags[0], 3), ops[i][j], -j)
                 if best is None or key < best[0]:
                     best = (key, i, j)
         if best is None:
