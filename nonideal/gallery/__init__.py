@@ -21,10 +21,20 @@ __all__ = ["names", "module", "model_path", "load", "run", "EXAMPLES"]
 
 HERE = Path(__file__).parent
 
-# name -> module (in this package)
-EXAMPLES: dict[str, str] = {
-    "chaplygin-sleigh": "chaplygin_sleigh",
-}
+
+def _discover() -> dict[str, str]:
+    """name -> module, for every module of this package that defines NAME (sorted by ORDER)."""
+    found = []
+    for path in sorted(HERE.glob("*.py")):
+        if path.stem.startswith("_"):
+            continue
+        mod = importlib.import_module(f"{__name__}.{path.stem}")
+        if hasattr(mod, "NAME"):
+            found.append((getattr(mod, "ORDER", 100), mod.NAME, path.stem))
+    return {name: stem for _, name, stem in sorted(found)}
+
+
+EXAMPLES: dict[str, str] = _discover()
 
 
 def names() -> list[str]:

@@ -44,6 +44,7 @@ from ..bodies import PlanarBody
 from ..model import Constraint, Model
 
 NAME = "chaplygin-sleigh"
+ORDER = 10
 TITLE = "Chaplygin sleigh, free motion: closed form v = V tanh(kt + c0) (Yushkov 1999, app. A)"
 FILE = "chaplygin_sleigh.toml"
 
