@@ -355,6 +355,77 @@ class Dynamics:
         return [self._rows[c.name] for c in self.model.constraints if names is None or c.name in names]
 
 
+    # ------------------------------------------------------------ contacts
+    @cached_property
+    def contacts(self) -> list["ContactData"]:
+        """Symbolic data of every contact (gap row, slip rows, friction coefficients)."""
+        return [self._contact(c) for c in self.model.contacts]
+
+    def _contact(self, c) -> "ContactData":
+        from .contacts import Coulomb
+
+        g = to_se(c.gap)
+        Gn = tuple(se.diff(g, qk) for qk in self.q)
+        gdot = self.dt(g, with_acceleration=False)
+        gamma_n = self.dt(gdot, with_acceleration=False)
+        U = tuple(to_se(u) for u in c.slip)
+        W = tuple(tuple(se.diff(u, v) for v in self.qd) for u in U)
+        gamma_U = tuple(self.dt(u, with_acceleration=False) for u in U)
+        law = c.friction
+        mu = to_se(law.mu)
+        mu_s = to_se(law.mu_static) if isinstance(law, Coulomb) else mu
+        return ContactData(c.name, g, gdot, Gn, gamma_n, U, W, gamma_U, mu, mu_s, law,
+                           c.bilateral, float(c.impact.restitution))
+
+    def contact_rows(self, index: int, state: str, sigma: int = 1, direction=None) -> list[ConstraintRow]:
+        """Symbolic constraint rows of contact *index* in a contact *state*.
+
+        ``"stick"``: the gap row (ideal, multiplier N) and one ideal nonholonomic row per slip
+        component (multiplier = friction force component).  ``"slide"``: the gap row whose
+        reaction carries the friction ``B = dg/dq - sigma mu sum_k W_k s_k`` with the slip
+        direction ``s`` given by *direction* (numbers for one component, or symbols named
+        ``s[name,k]`` supplied at evaluation).  ``"separated"``: no row.
+        """
+        cd = self.contacts[index]
+        if state == "separated":
+            return []
+        gap = ConstraintRow(cd.name, cd.Gn, cd.gamma_n, cd.Gn, cd.gap, cd.gap_rate, 0,
+                            not cd.bilateral, "ideal")
+        if state == "stick":
+            rows = [gap]
+            for k in range(len(cd.U)):
+                rows.append(ConstraintRow(f"{cd.name}_t{k + 1}" if len(cd.U) > 1 else f"{cd.name}_t",
+                                          cd.W[k], cd.gamma_U[k], cd.W[k], None, cd.U[k], 1, False, "ideal"))
+            return rows
+        if direction is None:
+            direction = [se.Symbol(f"s[{cd.name},{k + 1}]") for k in range(len(cd.U))]
+        B = tuple(cd.Gn[j] - sigma * cd.mu * sum((cd.W[k][j] * direction[k] for k in range(len(cd.U))),
+                                                se.Integer(0)) for j in range(self.n))
+        return [ConstraintRow(cd.name, cd.Gn, cd.gamma_n, B, cd.gap, cd.gap_rate, 0,
+                              not cd.bilateral, "friction")]
+
+
+@dataclass(frozen=True)
+class ContactData:
+    """Symbolic data of a contact: gap ``g``, ``g'``, ``dg/dq``, ``gamma_n`` (so that
+    ``g'' = dg/dq . q'' + gamma_n``), slip velocities ``U``, their Jacobian ``W`` and
+    ``gamma_U`` (``U' = W q'' + gamma_U``), friction coefficients."""
+
+    name: str
+    gap: object
+    gap_rate: object
+    Gn: tuple
+    gamma_n: object
+    U: tuple
+    W: tuple
+    gamma_U: tuple
+    mu: object
+    mu_s: object
+    law: object
+    bilateral: bool
+    restitution: float
+
+
 _CACHE: dict[int, tuple[Model, Dynamics]] = {}
 
 

@@ -247,10 +247,11 @@ class FormSystem:
     accelerations of all coordinates.
     """
 
-    def __init__(self, eom: EquationsOfMotion):
+    def __init__(self, eom: EquationsOfMotion, extra: Sequence = ()):
         self.eom = eom
         dyn: Dynamics = dynamics_of(eom.model)
-        base = [dyn.t] + dyn.q + dyn.qd + dyn.params
+        # extra inputs (e.g. slip directions of sliding contacts) follow the parameters
+        base = [dyn.t] + dyn.q + dyn.qd + dyn.params + [se.Symbol(str(s)) for s in extra]
         self.n_base = len(base)
         self.aux_shapes = []
         aux_syms = []
