@@ -1,9 +1,12 @@
 """Consistent states: complete an initial state from the constraints, project onto the
 constraint manifold, and draw random admissible states (for the cross-form tests).
 
-Missing coordinates are solved from the holonomic constraints (Gauss--Newton from a start
-value of 0.1, or from a neighbouring state), missing velocities from the velocity-level
-constraints.  A given value that violates a constraint is an error that names the constraint
+The rows used here are the model's constraints and the gaps of its contacts (a contact's gap
+behaves like a unilateral constraint; a bilateral contact like a bilateral one).  Missing
+coordinates are solved from the holonomic rows (Gauss--Newton from a start value of 0.1, or
+from a neighbouring state), missing velocities from the velocity-level rows; unilateral rows
+and contact gaps are closed (taken as equalities) only when the values cannot be determined
+otherwise.  A given value that violates a constraint is an error that names the constraint
 and the residual; it is never silently "fixed" beyond round-off (relative 1e-9).
 """
 
@@ -11,14 +14,17 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import qr
 
+from .contact_kernel import contact_kernel_of
 from .errors import InconsistentInitialConditions
 from .numeric import Kernel
 
-__all__ = ["complete_state", "project_state", "random_admissible_states", "GIVEN_TOL"]
+__all__ = ["complete_state", "project_state", "project_positions", "project_velocities",
+           "random_admissible_states", "GIVEN_TOL"]
 
 GIVEN_TOL = 1e-9     # relative tolerance on given values (beyond: error)
 NEWTON_TOL = 1e-13
@@ -28,14 +34,52 @@ def _scale(values: np.ndarray) -> float:
     return 1.0 + float(np.max(np.abs(values))) if values.size else 1.0
 
 
-def _eval(kernel: Kernel, t: float, q: np.ndarray, qd: np.ndarray, params: np.ndarray):
-    x = kernel.state_input(t, q, qd, params)
-    dyn = kernel.dynamics(x)
-    obs = kernel.observables(x)
-    return dyn, obs
+@dataclass(frozen=True)
+class _Row:
+    name: str
+    kind: str          # "constraint" or "contact"
+    index: int
+    holonomic: bool    # has a position level
+    unilateral: bool
 
 
-def _newton(kernel: Kernel, rows: list[int], unknown: list[int], t, q, qd, params, level: str,
+class _Levels:
+    """Position/velocity residuals and Jacobians of constraint rows and contact gaps."""
+
+    def __init__(self, kernel: Kernel, params: np.ndarray):
+        self.kernel, self.params = kernel, params
+        self.ck = contact_kernel_of(kernel.model)
+        rows = [_Row(r.name, "constraint", i, r.position is not None, r.unilateral)
+                for i, r in enumerate(kernel.rows)]
+        rows += [_Row(c.name, "contact", k, True, not c.bilateral) for k, c in enumerate(self.ck.data)]
+        self.rows = rows
+        self.has_velocity = [kernel.rows[r.index].velocity is not None if r.kind == "constraint" else True
+                             for r in rows]
+
+    def __call__(self, t, q, qd):
+        """``(G, pos, vel)`` of every row at a state (G is dpos/dq = dvel/dq')."""
+        k = self.kernel
+        x = k.state_input(t, q, qd, self.params)
+        m = len(self.rows)
+        G = np.zeros((m, k.n))
+        pos = np.zeros(m)
+        vel = np.zeros(m)
+        nk = k.m
+        if nk:
+            out = k.dynamics(x)
+            obs = k.observables(x)
+            G[:nk] = out["G"]
+            pos[:nk] = obs["pos"]
+            vel[:nk] = obs["vel"]
+        if self.ck:
+            cout = self.ck(x)
+            G[nk:] = cout["Gn"]
+            pos[nk:] = cout["gap"]
+            vel[nk:] = cout["gap_rate"]
+        return G, pos, vel
+
+
+def _newton(levels: _Levels, rows: list[int], unknown: list[int], t, q, qd, level: str,
             max_iter: int = 60):
     """Solve the residuals of *rows* at *level* ("pos" or "vel") for the *unknown* entries.
 
@@ -45,25 +89,34 @@ def _newton(kernel: Kernel, rows: list[int], unknown: list[int], t, q, qd, param
     if not rows or not unknown:
         return q, qd, True
     for _ in range(max_iter):
-        dyn, obs = _eval(kernel, t, q, qd, params)
-        res = obs[level][rows]
+        G, pos, vel = levels(t, q, qd)
+        res = (pos if level == "pos" else vel)[rows]
         if np.max(np.abs(res)) < NEWTON_TOL * _scale(q if level == "pos" else qd):
             return q, qd, True
-        J = dyn["G"][rows][:, unknown]
-        step, *_ = np.linalg.lstsq(J, -res, rcond=None)
+        step, *_ = np.linalg.lstsq(G[rows][:, unknown], -res, rcond=None)
         target = q if level == "pos" else qd
         target[unknown] += step
-    dyn, obs = _eval(kernel, t, q, qd, params)
-    ok = np.max(np.abs(obs[level][rows])) < 1e-9 * _scale(q if level == "pos" else qd)
+    G, pos, vel = levels(t, q, qd)
+    res = (pos if level == "pos" else vel)[rows]
+    ok = np.max(np.abs(res)) < 1e-9 * _scale(q if level == "pos" else qd)
     return q, qd, bool(ok)
 
 
-def _solve_level(kernel, rows, missing, t, q, qd, params, level):
-    return _newton(kernel, rows, missing, t, q, qd, params, level)
+def _determined(levels, rows, unknown, t, q, qd) -> bool:
+    if not unknown:
+        return True
+    if not rows:
+        return False
+    G, _, _ = levels(t, q, qd)
+    return np.linalg.matrix_rank(G[rows][:, unknown]) == len(unknown)
+
+
+def _src(model):
+    return None if model.source == "<api>" else model.source
 
 
 def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarray, t0: float,
-                   active: Sequence[int] | None = None, guess: Mapping[str, float] | None = None):
+                   guess: Mapping[str, float] | None = None):
     """Complete and check an initial state.
 
     Parameters
@@ -73,9 +126,6 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
         Coordinates (``"x"``) and velocities (``"x'"``) given by the user.
     params : ndarray
     t0 : float
-    active : sequence of int, optional
-        Constraint rows that must hold (default: every bilateral row; unilateral rows are
-        added as closed contacts when the coordinates cannot be determined otherwise).
     guess : mapping, optional
         Start values for missing coordinates (default 0.1).
 
@@ -83,49 +133,40 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     -------
     q, qd : ndarray, shape (n_q,)
     closed : list of int
-        Unilateral rows that are closed (gap ~ 0) at the initial state.
+        Unilateral constraint rows that are closed (gap ~ 0) at the initial state.
 
     Raises
     ------
     InconsistentInitialConditions
     """
     model = kernel.model
+    levels = _Levels(kernel, params)
     names = list(model.coordinates)
-    n = kernel.n
-    rows = kernel.rows
-    bilateral = [i for i, r in enumerate(rows) if not r.unilateral]
-    unilateral = [i for i, r in enumerate(rows) if r.unilateral]
-    if active is None:
-        active = bilateral
-    q = np.array([given.get(c, (guess or {}).get(c, 0.1)) for c in names], dtype=float)
+    rows = levels.rows
+    equality = [i for i, r in enumerate(rows) if not r.unilateral]
+    optional = [i for i, r in enumerate(rows) if r.unilateral]
+    start_q = np.array([given.get(c, (guess or {}).get(c, 0.1)) for c in names], dtype=float)
     qd = np.array([given.get(c + "'", 0.0) for c in names], dtype=float)
     miss_q = [i for i, c in enumerate(names) if c not in given]
     miss_v = [i for i, c in enumerate(names) if c + "'" not in given]
-    problems = []
 
-    pos_rows = [i for i in active if rows[i].position is not None]
-    start_q = q.copy()
-
-    def determined(rows_used, q_try):
-        dyn_, _ = _eval(kernel, t0, q_try, qd, params)
-        return bool(rows_used) and np.linalg.matrix_rank(dyn_["G"][rows_used][:, miss_q]) == len(miss_q)
-
-    q, qd, ok = _solve_level(kernel, pos_rows, miss_q, t0, start_q, qd, params, "pos")
-    if miss_q and not (ok and determined(pos_rows, q)):
-        # close unilateral constraints (contacts assumed closed at t0), smallest sets first
+    # ---- positions
+    pos_rows = [i for i in equality if rows[i].holonomic]
+    q, qd, ok = _newton(levels, pos_rows, miss_q, t0, start_q, qd, "pos")
+    closed_extra: list[int] = []
+    if miss_q and not (ok and _determined(levels, pos_rows, miss_q, t0, q, qd)):
         found = False
-        extra = [i for i in unilateral if i not in active]
-        for k in range(1, len(extra) + 1):
-            for subset in itertools.combinations(extra, k):
+        for k in range(1, len(optional) + 1):
+            for subset in itertools.combinations(optional, k):
                 rows_try = pos_rows + list(subset)
                 if len(rows_try) < len(miss_q):
                     continue
-                q2, qd, ok2 = _solve_level(kernel, rows_try, miss_q, t0, start_q, qd, params, "pos")
-                if not (ok2 and determined(rows_try, q2)):
+                q2, _, ok2 = _newton(levels, rows_try, miss_q, t0, start_q, qd, "pos")
+                if not (ok2 and _determined(levels, rows_try, miss_q, t0, q2, qd)):
                     continue
-                _, obs2 = _eval(kernel, t0, q2, qd, params)
-                if all(obs2["pos"][i] >= -GIVEN_TOL * _scale(q2) for i in unilateral):
-                    q, pos_rows, active, found = q2, rows_try, list(active) + list(subset), True
+                _, pos2, _ = levels(t0, q2, qd)
+                if all(pos2[i] >= -GIVEN_TOL * _scale(q2) for i in optional):
+                    q, closed_extra, found = q2, list(subset), True
                     break
             if found:
                 break
@@ -134,110 +175,94 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
             raise InconsistentInitialConditions(
                 f"[initial]: coordinates {missing} are not given and cannot be determined from "
                 "the constraints; give them in [initial]", _src(model))
-    dyn, obs = _eval(kernel, t0, q, qd, params)
+    G, pos, vel = levels(t0, q, qd)
     scale = _scale(q)
+    problems = []
     for i in pos_rows:
-        res = obs["pos"][i]
-        if abs(res) > GIVEN_TOL * scale:
+        if abs(pos[i]) > GIVEN_TOL * scale:
             problems.append(
                 f"[initial]: constraint '{rows[i].name}' is violated by the initial coordinates: "
-                f"residual {res:.3e}; give consistent values (expressions in the parameters are "
-                "allowed) or leave a dependent coordinate out to have it completed"
-            )
-    for i in unilateral:
-        res = obs["pos"][i]
-        if res < -GIVEN_TOL * scale:
-            problems.append(
-                f"[initial]: unilateral constraint '{rows[i].name}' is violated (value {res:.3e} < 0)"
-            )
+                f"residual {pos[i]:.3e}; give consistent values (expressions in the parameters are "
+                "allowed) or leave a dependent coordinate out to have it completed")
+    for i in optional:
+        if pos[i] < -GIVEN_TOL * scale:
+            what = "contact" if rows[i].kind == "contact" else "unilateral constraint"
+            problems.append(f"[initial]: {what} '{rows[i].name}' is violated (value {pos[i]:.3e} < 0)")
     if problems:
         raise InconsistentInitialConditions(problems, _src(model))
-    closed = [i for i in unilateral if abs(obs["pos"][i]) <= GIVEN_TOL * scale]
-    vel_active = [i for i in active if rows[i].velocity is not None]
-    vel_active += [i for i in closed if i not in vel_active]
-    q = project_positions(kernel, [i for i in pos_rows] + [i for i in closed if i not in pos_rows], t0, q, qd, params)
+    closed = [i for i in optional if abs(pos[i]) <= GIVEN_TOL * scale]
+    q = _project(levels, pos_rows + closed, t0, q, qd, "pos")
 
-    qd, ok = _velocities(kernel, vel_active, miss_v, t0, q, qd, params, given, names)
-    dyn, obs = _eval(kernel, t0, q, qd, params)
-    vscale = _scale(qd)
-    for i in vel_active:
-        res = obs["vel"][i]
-        if abs(res) > GIVEN_TOL * vscale:
-            kind = "unilateral constraint (closed at t0)" if rows[i].unilateral else "constraint"
-            if rows[i].unilateral and res > 0:
-                continue  # separating from a closed contact is allowed
-            problems.append(
-                f"[initial]: {kind} '{rows[i].name}' is violated by the initial velocities: "
-                f"residual {res:.3e}; give consistent velocities or leave a dependent velocity out"
-            )
-    if problems:
-        raise InconsistentInitialConditions(problems, _src(model))
-    return q, qd, closed
-
-
-def _velocities(kernel, rows_v, miss_v, t0, q, qd, params, given, names):
-    if not miss_v:
-        return qd, True
-    # unilateral rows that separate are inequalities: use only equality rows first
-    eq_rows = [i for i in rows_v if not kernel.rows[i].unilateral]
-    q_, qd, ok = _solve_level(kernel, eq_rows, miss_v, t0, q, qd, params, "vel")
-    dyn, obs = _eval(kernel, t0, q, qd, params)
-    G = dyn["G"]
-    rank_eq = np.linalg.matrix_rank(G[eq_rows][:, miss_v]) if eq_rows else 0
-    if rank_eq < len(miss_v):
-        uni = [i for i in rows_v if kernel.rows[i].unilateral]
-        rows_all = eq_rows + uni
-        q_, qd, ok = _solve_level(kernel, rows_all, miss_v, t0, q, qd, params, "vel")
-        dyn, _ = _eval(kernel, t0, q, qd, params)
-        rank = np.linalg.matrix_rank(dyn["G"][rows_all][:, miss_v]) if rows_all else 0
-        if rank < len(miss_v):
+    # ---- velocities
+    vel_eq = [i for i in equality if levels.has_velocity[i]]
+    _, qd, _ = _newton(levels, vel_eq, miss_v, t0, q, qd, "vel")
+    if miss_v and not _determined(levels, vel_eq, miss_v, t0, q, qd):
+        found = False
+        closed_v = [i for i in closed if levels.has_velocity[i]]
+        for k in range(1, len(closed_v) + 1):
+            for subset in itertools.combinations(closed_v, k):
+                rows_try = vel_eq + list(subset)
+                _, qd2, ok2 = _newton(levels, rows_try, miss_v, t0, q, qd, "vel")
+                if ok2 and _determined(levels, rows_try, miss_v, t0, q, qd2):
+                    qd, found = qd2, True
+                    break
+            if found:
+                break
+        if not found:
             missing = [names[i] + "'" for i in miss_v]
             raise InconsistentInitialConditions(
                 f"[initial]: velocities {missing} are not given and cannot be determined from "
-                "the constraints; give them in [initial]", _src(kernel.model))
-    return qd, ok
+                "the constraints; give them in [initial]", _src(model))
+    G, pos, vel = levels(t0, q, qd)
+    vscale = _scale(qd)
+    for i in vel_eq:
+        if abs(vel[i]) > GIVEN_TOL * vscale:
+            problems.append(
+                f"[initial]: constraint '{rows[i].name}' is violated by the initial velocities: "
+                f"residual {vel[i]:.3e}; give consistent velocities or leave a dependent velocity out")
+    for i in closed:
+        if levels.has_velocity[i] and vel[i] < -GIVEN_TOL * vscale:
+            what = "contact" if rows[i].kind == "contact" else "unilateral constraint"
+            problems.append(
+                f"[initial]: {what} '{rows[i].name}' is closed at t0 and the initial velocities "
+                f"make it penetrate (rate {vel[i]:.3e} < 0)")
+    if problems:
+        raise InconsistentInitialConditions(problems, _src(model))
+    qd = _project(levels, vel_eq, t0, q, qd, "vel")
+    closed_constraints = [rows[i].index for i in closed if rows[i].kind == "constraint"]
+    return q, qd, closed_constraints
 
 
-def _src(model):
-    return None if model.source == "<api>" else model.source
+def _project(levels: _Levels, rows: Sequence[int], t, q, qd, level: str, iters: int = 8):
+    rows = [i for i in rows if (levels.rows[i].holonomic if level == "pos" else levels.has_velocity[i])]
+    if not rows:
+        return q if level == "pos" else qd
+    x = (q if level == "pos" else qd).copy()
+    for _ in range(iters):
+        G, pos, vel = levels(t, x, qd) if level == "pos" else levels(t, q, x)
+        res = (pos if level == "pos" else vel)[rows]
+        if np.max(np.abs(res)) < 1e-15 * _scale(x):
+            break
+        step, *_ = np.linalg.lstsq(G[rows], -res, rcond=None)
+        x += step
+    return x
 
 
 def project_positions(kernel: Kernel, rows: Sequence[int], t, q, qd, params, iters: int = 8):
-    """Least-norm Newton projection of ``q`` onto ``f_rows(q, t) = 0``."""
-    rows = [i for i in rows if kernel.rows[i].position is not None]
-    if not rows:
-        return q
-    q = q.copy()
-    for _ in range(iters):
-        dyn, obs = _eval(kernel, t, q, qd, params)
-        res = obs["pos"][rows]
-        if np.max(np.abs(res)) < 1e-15 * _scale(q):
-            break
-        step, *_ = np.linalg.lstsq(dyn["G"][rows], -res, rcond=None)
-        q += step
-    return q
+    """Least-norm Newton projection of ``q`` onto the holonomic constraint rows *rows*."""
+    return _project(_Levels(kernel, params), list(rows), t, q, qd, "pos", iters)
 
 
 def project_velocities(kernel: Kernel, rows: Sequence[int], t, q, qd, params, iters: int = 6):
-    """Least-norm projection of ``q'`` onto the velocity-level constraints of *rows*."""
-    rows = [i for i in rows if kernel.rows[i].velocity is not None]
-    if not rows:
-        return qd
-    qd = qd.copy()
-    for _ in range(iters):
-        dyn, obs = _eval(kernel, t, q, qd, params)
-        res = obs["vel"][rows]
-        if np.max(np.abs(res)) < 1e-15 * _scale(qd):
-            break
-        step, *_ = np.linalg.lstsq(dyn["G"][rows], -res, rcond=None)
-        qd += step
-    return qd
+    """Least-norm projection of ``q'`` onto the velocity-level constraint rows *rows*."""
+    return _project(_Levels(kernel, params), list(rows), t, q, qd, "vel", iters)
 
 
 def project_state(kernel: Kernel, rows: Sequence[int], t, q, qd, params):
-    """Project a state onto the constraint manifold of *rows* (positions, then velocities)."""
-    q = project_positions(kernel, rows, t, q, qd, params)
-    qd = project_velocities(kernel, rows, t, q, qd, params)
+    """Project a state onto the constraint manifold of the kernel constraint rows *rows*."""
+    levels = _Levels(kernel, params)
+    q = _project(levels, list(rows), t, q, qd, "pos")
+    qd = _project(levels, list(rows), t, q, qd, "vel")
     return q, qd
 
 
@@ -253,35 +278,31 @@ def random_admissible_states(kernel: Kernel, base_q: np.ndarray, base_qd: np.nda
     -------
     list of (t, q, qd)
     """
+    levels = _Levels(kernel, params)
     rng = np.random.default_rng(seed)
     if rows is None:
-        rows = list(range(len(kernel.rows)))
-    pos_rows = [i for i in rows if kernel.rows[i].position is not None]
-    vel_rows = [i for i in rows if kernel.rows[i].velocity is not None]
+        rows = [i for i, r in enumerate(levels.rows) if r.kind == "constraint"]
+    pos_rows = [i for i in rows if levels.rows[i].holonomic]
+    vel_rows = [i for i in rows if levels.has_velocity[i]]
     out = []
     attempts = 0
     while len(out) < count and attempts < 20 * count:
         attempts += 1
         t = t0 + rng.uniform(0, 1)
         q = base_q.copy()
-        dyn, _ = _eval(kernel, t, q, base_qd, params)
-        if pos_rows:
-            _, _, piv = qr(dyn["G"][pos_rows], pivoting=True)
-            dep = sorted(piv[:len(pos_rows)])
-        else:
-            dep = []
+        G, _, _ = levels(t, q, base_qd)
+        dep = sorted(qr(G[pos_rows], pivoting=True)[2][:len(pos_rows)]) if pos_rows else []
         ind = [j for j in range(kernel.n) if j not in dep]
         q[ind] += spread * rng.standard_normal(len(ind))
         if dep:
-            q, _, ok = _newton(kernel, pos_rows, dep, t, q, base_qd, params, "pos")
+            q, _, ok = _newton(levels, pos_rows, dep, t, q, base_qd, "pos")
             if not ok:
                 continue
         qd = base_qd + rng.standard_normal(kernel.n) * (spread + 0.5 * np.abs(base_qd))
-        dyn, _ = _eval(kernel, t, q, qd, params)
+        G, _, _ = levels(t, q, qd)
         if vel_rows:
-            _, _, piv = qr(dyn["G"][vel_rows], pivoting=True)
-            depv = sorted(piv[:len(vel_rows)])
-            _, qd, ok = _newton(kernel, vel_rows, depv, t, q, qd, params, "vel")
+            depv = sorted(qr(G[vel_rows], pivoting=True)[2][:len(vel_rows)])
+            _, qd, ok = _newton(levels, vel_rows, depv, t, q, qd, "vel")
             if not ok:
                 continue
         out.append((t, q, qd))

@@ -23,7 +23,7 @@ from .consistency import complete_state
 from .errors import ModelError, did_you_mean
 from .expressions import parse_expression
 from .model import Model
-from .modes import ModeSolver, select_mode
+from .modes import ModeSolver
 from .numeric import kernel_of, parameter_vector
 
 __all__ = ["Evaluation", "evaluate", "parse_state", "painleve_split"]
@@ -121,7 +121,7 @@ def painleve_split(M: np.ndarray, G: np.ndarray, R: np.ndarray):
 def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | None = None,
              form: str = "lagrange1", parameters: Mapping[str, float] | None = None,
              independent=None) -> Evaluation:
-    """Accelerations, multipliers and reactions at a state.
+    """Accelerations, multipliers, reactions and contact forces at a state.
 
     Parameters
     ----------
@@ -137,40 +137,89 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     Returns
     -------
     Evaluation
+        ``reactions[name]`` holds, for every constraint and contact, the generalized reaction
+        and its Painleve split into the constraint part ``G^T lambda`` (which does not depend on
+        friction) and the friction part (``M V mu``: it accelerates along possible velocities).
     """
+    from .switching import select_mode
+
     kernel = kernel_of(model)
     params = parameter_vector(model, parameters)
     t = model.t0 if t is None else float(t)
     given = dict(model.numeric_initial())
     if at:
-        # a coordinate given at the command line replaces the file's value; dependent ones
-        # that are not given are completed again
         given.update(at)
     q, qd, _ = complete_state(kernel, given, params, t)
     solver = ModeSolver(kernel, params, form, independent)
     mode = select_mode(solver, t, q, qd)
     sol = solver.solve(t, q, qd, mode)
+    return _report(model, form, t, q, qd, mode, sol, solver)
+
+
+def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
+    kernel = solver.kernel
+    n = kernel.n
     rows = kernel.rows
-    multipliers = {}
-    reactions = {}
+    # the frictionless constraint set: constraint rows and the normal rows of touching contacts
+    normal_rows = [j for j, r in enumerate(sol.layout) if r.kind != "tangent"]
+    G_ideal = sol.Gm[normal_rows]
     R_total = sol.M @ sol.qdd - sol.F
-    split = painleve_split(sol.M, sol.G[sol.rows], R_total) if sol.rows else None
+    split = painleve_split(sol.M, G_ideal, R_total) if normal_rows else None
+    lam_split = {}
+    P = None
+    if split is not None:
+        for k, j in enumerate(normal_rows):
+            lam_split[sol.layout[j].name] = split[0][k]
+        Minv_GT = np.linalg.solve(sol.M, G_ideal.T)
+        P = np.eye(n) - G_ideal.T @ np.linalg.solve(G_ideal @ Minv_GT, Minv_GT.T)
+    multipliers, reactions, contacts = {}, {}, {}
     for r_i, row in enumerate(rows):
         name = row.name
         active = r_i in sol.rows
         lam = sol.multiplier(r_i) if active else 0.0
         multipliers[name] = float(lam)
-        generalized = sol.B[:, r_i] * lam if active else np.zeros(kernel.n)
-        if split is not None and active:
-            j = sol.rows.index(r_i)
-            constraint_part = sol.G[r_i] * split[0][j]
-        else:
-            constraint_part = generalized
+        generalized = sol.B[:, r_i] * lam if active else np.zeros(n)
+        constraint_part = sol.G[r_i] * lam_split[name] if (split is not None and active) else generalized
         reactions[name] = {
             "generalized": [float(v) for v in generalized],
             "constraint_part": [float(v) for v in constraint_part],
-            "friction_part": [float(v) for v in (generalized - constraint_part)],
+            "friction_part": [float(v) for v in (generalized - constraint_part)] if split is not None
+            else [0.0] * n,
             "active": bool(active),
         }
+    ck = solver.ck
+    for c, (name, cs) in enumerate(mode.contacts):
+        cf = sol.contacts[name]
+        o, d = ck.offsets[c], ck.dims[c]
+        x = solver.input(t, q, qd)
+        cout = ck(x)
+        Gn, W = cout["Gn"][c].copy(), cout["W"][o:o + d].copy()
+        normal_force = Gn * cf.N
+        friction_force = cf.F @ W
+        generalized = normal_force + friction_force
+        if split is not None and name in lam_split:
+            constraint_part = Gn * lam_split[name]
+            friction_part = P @ friction_force
+        else:
+            constraint_part, friction_part = normal_force, friction_force
+        reactions[name] = {
+            "generalized": [float(v) for v in generalized],
+            "constraint_part": [float(v) for v in constraint_part],
+            "friction_part": [float(v) for v in friction_part],
+            "active": cs.state != "separated",
+        }
+        multipliers[name] = float(cf.N)
+        info = cf.to_dict()
+        info["mu"] = cf.mu
+        info["mu_static"] = cf.mu_s
+        info["slip_acceleration"] = [float(v) for v in cf.Udot]
+        if cs.state == "stick":
+            need = float(np.sqrt(cf.F @ cf.F))
+            info["friction_needed"] = need
+            info["friction_available"] = float(cf.mu_s * abs(cf.N))
+            info["margin"] = float(cf.mu_s * abs(cf.N) - need)
+        if split is not None and name in lam_split:
+            info["constraint_multiplier"] = float(lam_split[name])
+        contacts[name] = info
     return Evaluation(model.name, form, t, tuple(model.coordinates), q, qd, sol.qdd, mode.label(),
-                      multipliers, reactions, {}, split is not None)
+                      multipliers, reactions, contacts, split is not None)

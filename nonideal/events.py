@@ -4,13 +4,30 @@ An event has a scalar ``value(ctx)`` whose sign change (from positive to non-pos
 the switch, a ``kind`` and the name of the constraint or contact it concerns.  The driver
 locates the root on the integrator's dense output (Brent's method) and then asks the mode
 selection what happens next.  Nothing is patched onto functions.
+
+======================  ====================================  =============================
+event                   value                                 in mode
+======================  ====================================  =============================
+:class:`Release`        multiplier of a unilateral constraint held
+:class:`Touch`          the constraint function ``f``         released
+:class:`ContactTouch`   the gap ``g``                         contact separated
+:class:`Lift`           the normal force ``sigma N``          contact touching
+:class:`SlipStart`      ``mu_s |N| - |F|``                    contact sticking
+:class:`SlipStop`       ``s . U`` (one component),            contact sliding
+                        ``U . s_ref`` (two; ``s_ref`` the
+                                                              slip direction at step start)
+:class:`Jam`            effective normal compliance ``b``     contact sliding (Painleve)
+======================  ====================================  =============================
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Event", "Release", "Touch", "EventContext"]
+import numpy as np
+
+__all__ = ["Event", "Release", "Touch", "ContactTouch", "Lift", "SlipStart", "SlipStop", "Jam",
+           "EventContext"]
 
 
 @dataclass
@@ -22,6 +39,8 @@ class EventContext:
     qd: object
     solution: object
     observables: dict
+    solver: object = None
+    mode: object = None
 
 
 @dataclass(frozen=True)
@@ -29,6 +48,8 @@ class Event:
     kind: str
     name: str
     row: int
+    #: whether the mode that the event ends must be excluded from the next selection
+    excludes_current = False
 
     def value(self, ctx: EventContext) -> float:
         raise NotImplementedError
@@ -41,6 +62,8 @@ class Event:
 class Release(Event):
     """A held unilateral constraint's multiplier reaches zero (it would pull)."""
 
+    excludes_current = True
+
     def value(self, ctx: EventContext) -> float:
         return ctx.solution.multiplier(self.row)
 
@@ -51,3 +74,66 @@ class Touch(Event):
 
     def value(self, ctx: EventContext) -> float:
         return float(ctx.observables["pos"][self.row])
+
+
+@dataclass(frozen=True)
+class ContactEvent(Event):
+    def record(self, t: float) -> dict:
+        return {"t": t, "type": self.kind, "contact": self.name}
+
+
+@dataclass(frozen=True)
+class ContactTouch(ContactEvent):
+    """A separated contact closes: the gap reaches zero."""
+
+    def value(self, ctx: EventContext) -> float:
+        return ctx.solution.contacts[self.name].gap
+
+
+@dataclass(frozen=True)
+class Lift(ContactEvent):
+    """The normal force of a touching contact reaches zero (separation; for a bilateral
+    contact, a change of sign of N, hence of the friction direction)."""
+
+    sigma: int = 1
+    excludes_current = True
+
+    def value(self, ctx: EventContext) -> float:
+        return self.sigma * ctx.solution.contacts[self.name].N
+
+
+@dataclass(frozen=True)
+class SlipStart(ContactEvent):
+    """A sticking contact needs more friction than static friction can give."""
+
+    excludes_current = True
+
+    def value(self, ctx: EventContext) -> float:
+        cf = ctx.solution.contacts[self.name]
+        return cf.mu_s * abs(cf.N) - float(np.sqrt(cf.F @ cf.F))
+
+
+@dataclass(frozen=True)
+class SlipStop(ContactEvent):
+    """A sliding contact's slip velocity reaches zero: ``s . U`` changes sign, with ``s`` the
+    sliding direction (one component) or the slip direction at the start of the step (two)."""
+
+    direction: float = 1.0
+
+    def value(self, ctx: EventContext) -> float:
+        U = ctx.solution.contacts[self.name].U
+        if len(U) == 1:
+            return self.direction * float(U[0])
+        ref = ctx.solver.reference.get(self.row)
+        return float(U @ ref) if ref is not None else float(np.sqrt(U @ U))
+
+
+@dataclass(frozen=True)
+class Jam(ContactEvent):
+    """The effective normal compliance of a sliding contact reaches zero: beyond it sliding
+    has no consistent (or no unique) continuation -- Painleve's paradox."""
+
+    def value(self, ctx: EventContext) -> float:
+        from .switching import effective_compliance
+
+        return effective_compliance(ctx.solver, ctx.t, ctx.q, ctx.qd, ctx.mode, self.name)

@@ -1,43 +1,125 @@
 """Modes of a hybrid mechanical system and the motion in a mode.
 
-A :class:`Mode` says which unilateral constraints are held (and, for contacts, whether each
-is separated, sticking or sliding in which direction).  :class:`ModeSolver` evaluates the
-motion in a mode at a state -- accelerations and the multiplier of every active row -- in the
-chosen formalism: Lagrange I uses the compiled model kernel and selects rows numerically; the
-other forms are derived symbolically once per mode and compiled (the physical motion must not
-depend on the form, which the tests check).
+A :class:`Mode` says which unilateral constraints are held and, for every contact, its
+:class:`ContactState`: separated, sticking (rolling), sliding in a direction, or -- for the
+regularized friction laws -- smooth sliding.  :class:`ModeSolver` evaluates the motion in a
+mode at a state: the accelerations and the multiplier of every active row, in the chosen
+formalism.  Lagrange I assembles the rows numerically from the compiled kernels (no
+recompilation when the mode changes); the other forms are derived symbolically once per mode
+structure and compiled -- the physical motion must not depend on the form.
 
-:func:`select_mode` is the small complementarity problem solved at every switch: among the
-closed unilateral constraints, find the set held such that held multipliers are ``>= 0`` and
-released constraints separate (``f'' >= 0``).  For ideal constraints the answer is unique
-(``G M^-1 G^T`` is positive definite); when it is not, the problem is reported as mechanics
-without a unique answer.  :func:`impact` applies the impact law when a gap closes.
+Rows of a mode (:class:`RowSpec`): the model's active constraints; for a closed contact its
+normal row (multiplier ``N``, the normal force) whose reaction column carries the friction
+when sliding, ``B = dg/dq - sigma mu sum_k W_k s_k``; for a sticking contact also one
+nonholonomic row ``U_k = 0`` per slip component (multiplier = friction force component).
 """
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .contact_kernel import contact_kernel_of
+from .contacts import Coulomb, LinearizedCoulomb, RegularizedCoulomb
+from .dynamics import dynamics_of
 from .errors import MechanicsError, SingularSystem
 from .formalisms import derive
 from .numeric import FormSystem, Kernel, SingularMatrix, solve_saddle
 
-__all__ = ["Mode", "Solution", "ModeSolver", "select_mode", "impact"]
+__all__ = ["Mode", "ContactState", "RowSpec", "Solution", "ContactForce", "ModeSolver",
+           "SEPARATED", "STICK", "SLIDE", "SMOOTH"]
 
-MAX_ENUMERATION = 12  # at most 2**12 candidate sets
+SEPARATED, STICK, SLIDE, SMOOTH = "separated", "stick", "slide", "smooth"
+
+
+@dataclass(frozen=True)
+class ContactState:
+    """State of one contact.
+
+    Attributes
+    ----------
+    state : {"separated", "stick", "slide", "smooth"}
+    direction : tuple of float
+        Sliding: ``(+1,)`` or ``(-1,)`` for one slip component (the sign of ``U``); for two
+        components the unit direction used only while ``|U| ~ 0`` at the onset of sliding
+        (afterwards ``s = U/|U|``).
+    sigma : int
+        Sign of the normal force (bilateral contacts; +1 for unilateral ones).
+    """
+
+    state: str = SEPARATED
+    direction: tuple[float, ...] = ()
+    sigma: int = 1
+
+    def label(self) -> str:
+        if self.state == SLIDE and len(self.direction) == 1:
+            out = "slide+" if self.direction[0] > 0 else "slide-"
+        else:
+            out = self.state
+        return out + ("(N<0)" if self.sigma < 0 else "")
+
+    @property
+    def structure(self) -> tuple:
+        """What the symbolic equations depend on (directions enter as numbers)."""
+        return (self.state, self.sigma)
 
 
 @dataclass(frozen=True)
 class Mode:
-    """Which unilateral constraints are held (names)."""
+    """Held unilateral constraints and the state of every contact (model order)."""
 
     held: frozenset[str] = frozenset()
+    contacts: tuple[tuple[str, ContactState], ...] = ()
+
+    def contact(self, name: str) -> ContactState:
+        for n, cs in self.contacts:
+            if n == name:
+                return cs
+        return ContactState()
 
     def label(self) -> str:
-        return ", ".join(sorted(self.held)) if self.held else "free"
+        parts = sorted(self.held)
+        parts += [f"{n}:{cs.label()}" for n, cs in self.contacts]
+        return ", ".join(parts) if parts else "free"
+
+    @property
+    def structure(self) -> tuple:
+        return (self.held, tuple((n, cs.structure) for n, cs in self.contacts))
+
+    def with_contact(self, name: str, cs: ContactState) -> "Mode":
+        return Mode(self.held, tuple((n, cs if n == name else c) for n, c in self.contacts))
+
+
+@dataclass(frozen=True)
+class RowSpec:
+    """One row of a mode: ``kind`` is "constraint" (kernel row ``index``), "normal" (contact
+    ``index``) or "tangent" (component ``k`` of contact ``index``)."""
+
+    kind: str
+    index: int
+    k: int = 0
+    name: str = ""
+
+
+@dataclass
+class ContactForce:
+    """Contact quantities at a state: normal force, friction force, slip, gap."""
+
+    state: str
+    N: float = 0.0
+    F: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    U: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    Udot: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    gap: float = 0.0
+    gap_rate: float = 0.0
+    gap_acc: float = 0.0
+    mu: float = 0.0
+    mu_s: float = 0.0
+
+    def to_dict(self) -> dict:
+        return {"mode": self.state, "normal": float(self.N), "friction": [float(v) for v in self.F],
+                "slip": [float(v) for v in self.U], "gap": float(self.gap)}
 
 
 @dataclass
@@ -47,20 +129,31 @@ class Solution:
     Attributes
     ----------
     qdd : ndarray, shape (n_q,)
-    rows : list of int -- kernel row indices active in this mode
-    multipliers : ndarray -- one per active row (same order)
-    M, F : ndarray -- mass matrix and forcing at the state
-    G, gamma, B : ndarray -- all rows of the kernel at the state
+    rows : list of int -- active kernel constraint rows
+    multipliers : ndarray -- multipliers of ``rows`` (same order)
+    layout : list of RowSpec -- every row of the mode; ``values`` their multipliers
+    M, F : ndarray -- mass matrix and forcing
+    G, gamma, B : ndarray -- every constraint row of the kernel (active or not)
+    Gm, gammam, Bm : ndarray -- the assembled rows of the mode
+    contacts : dict name -> ContactForce
+    friction : ndarray, shape (n_q,) -- generalized friction force ``sum_k W_k^T F_k``
     """
 
     qdd: np.ndarray
     rows: list[int]
     multipliers: np.ndarray
+    layout: list[RowSpec]
+    values: np.ndarray
     M: np.ndarray
     F: np.ndarray
     G: np.ndarray
     gamma: np.ndarray
     B: np.ndarray
+    Gm: np.ndarray
+    gammam: np.ndarray
+    Bm: np.ndarray
+    contacts: dict[str, ContactForce] = field(default_factory=dict)
+    friction: np.ndarray | None = None
     direct: dict[str, float] = field(default_factory=dict)
 
     def multiplier(self, row: int) -> float:
@@ -85,113 +178,291 @@ class ModeSolver:
         self.form = form
         self.independent = independent
         self.model = kernel.model
+        self.ck = contact_kernel_of(kernel.model)
         self.bilateral = [i for i, r in enumerate(kernel.rows) if not r.unilateral]
         self.unilateral = [i for i, r in enumerate(kernel.rows) if r.unilateral]
         self._forms: dict[tuple, FormSystem] = {}
-        self._active: dict[Mode, FormSystem] = {}
+        self._active: dict[tuple, FormSystem] = {}
+        self._layouts: dict[tuple, list[RowSpec]] = {}
         self.x = kernel.layout.make(params)
+        self.n = kernel.n
+        self.laws = [c.law for c in self.ck.data]
+        self.reference: dict[int, np.ndarray] = {}
+
+    # ------------------------------------------------------------------ modes and rows
+    def initial_contacts(self) -> tuple[tuple[str, ContactState], ...]:
+        return tuple((name, ContactState()) for name in self.ck.names)
 
     def rows(self, mode: Mode) -> list[int]:
-        return [i for i, r in enumerate(self.kernel.rows)
-                if not r.unilateral or r.name in mode.held]
+        """Active kernel constraint rows."""
+        return [i for i, r in enumerate(self.kernel.rows) if not r.unilateral or r.name in mode.held]
+
+    def layout(self, mode: Mode) -> list[RowSpec]:
+        key = mode.structure
+        lay = self._layouts.get(key)
+        if lay is None:
+            lay = [RowSpec("constraint", i, 0, self.kernel.rows[i].name) for i in self.rows(mode)]
+            for c, (name, cs) in enumerate(mode.contacts):
+                if cs.state == SEPARATED:
+                    continue
+                lay.append(RowSpec("normal", c, 0, name))
+                if cs.state == STICK:
+                    d = self.ck.dims[c]
+                    for k in range(d):
+                        lay.append(RowSpec("tangent", c, k, f"{name}_t{k + 1}" if d > 1 else f"{name}_t"))
+            self._layouts[key] = lay
+        return lay
 
     def input(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         x = self.x
-        n = self.kernel.n
+        n = self.n
         x[0] = t
         x[1:1 + n] = q
         x[1 + n:1 + 2 * n] = qd
         return x
 
+    # ------------------------------------------------------------------ friction shapes
+    def friction_shape(self, c: int, cs: ContactState, U: np.ndarray) -> np.ndarray:
+        """The vector ``s`` with friction ``F = -sigma mu N s`` (unit slip direction for
+        Coulomb sliding; the regularized shape for the smooth laws)."""
+        law = self.laws[c]
+        if cs.state == SMOOTH:
+            nrm = float(np.sqrt(U @ U))
+            if isinstance(law, RegularizedCoulomb):
+                return U / np.sqrt(nrm * nrm + law.eps * law.eps)
+            if isinstance(law, LinearizedCoulomb):
+                return U / law.eps if nrm <= law.eps else U / nrm
+        if len(U) == 1:
+            return np.array(cs.direction, dtype=float)
+        nrm = float(np.sqrt(U @ U))
+        scale = 1e-12 * (1.0 + float(np.max(np.abs(self.x[1 + self.n:1 + 2 * self.n]))))
+        ref = self.reference.get(c)
+        if nrm > scale:
+            s = U / nrm
+            # analytic continuation through U = 0 within a step: keep the orientation of the
+            # slip at the start of the step, so that the right-hand side stays smooth up to
+            # (and a little past) the stop, where the SlipStop event places the switch
+            if ref is not None and s @ ref < 0:
+                s = -s
+            return s
+        if ref is not None:
+            return ref
+        return np.array(cs.direction, dtype=float) if cs.direction else np.zeros_like(U)
+
+    def set_references(self, mode: "Mode", t: float, q: np.ndarray, qd: np.ndarray) -> None:
+        """Record the slip direction of every two-component sliding contact (called by the
+        simulation at the start of each step)."""
+        self.reference = {}
+        if not self.ck:
+            return
+        cout = self.ck(self.input(t, q, qd))
+        for c, (name, cs) in enumerate(mode.contacts):
+            if cs.state == SLIDE and self.ck.dims[c] > 1:
+                U = self.ck.slip(cout, c)
+                nrm = float(np.sqrt(U @ U))
+                scale = 1e-12 * (1.0 + float(np.max(np.abs(qd))))
+                if nrm > scale:
+                    self.reference[c] = U / nrm
+                elif cs.direction:
+                    self.reference[c] = np.array(cs.direction, dtype=float)
+
+    # ------------------------------------------------------------------ assembly
+    def assemble(self, mode: Mode, layout: list[RowSpec], out: dict, cout: dict | None):
+        """Numeric ``G (m, n)``, ``gamma (m,)``, ``B (n, m)`` of the mode's rows."""
+        n, m = self.n, len(layout)
+        G = np.empty((m, n))
+        gamma = np.empty(m)
+        B = np.empty((n, m))
+        for j, r in enumerate(layout):
+            if r.kind == "constraint":
+                G[j] = out["G"][r.index]
+                gamma[j] = out["gamma"][r.index]
+                B[:, j] = out["B"][:, r.index]
+            elif r.kind == "normal":
+                c = r.index
+                G[j] = cout["Gn"][c]
+                gamma[j] = cout["gamma_n"][c]
+                cs = mode.contacts[c][1]
+                if cs.state in (SLIDE, SMOOTH):
+                    o, d = self.ck.offsets[c], self.ck.dims[c]
+                    s = self.friction_shape(c, cs, cout["U"][o:o + d])
+                    B[:, j] = G[j] - cs.sigma * cout["mu"][c] * (s @ cout["W"][o:o + d])
+                else:
+                    B[:, j] = G[j]
+            else:
+                row = self.ck.offsets[r.index] + r.k
+                G[j] = cout["W"][row]
+                gamma[j] = cout["gamma_U"][row]
+                B[:, j] = G[j]
+        return G, gamma, B
+
+    # ------------------------------------------------------------------ reduced forms
+    def _symbolic_rows(self, mode: Mode):
+        dyn = dynamics_of(self.model)
+        rows = [self.kernel.rows[i] for i in self.rows(mode)]
+        extra = []
+        for c, (name, cs) in enumerate(mode.contacts):
+            if cs.state == SEPARATED:
+                continue
+            state = "stick" if cs.state == STICK else "slide"
+            new = dyn.contact_rows(c, state, cs.sigma)
+            rows += new
+            if state == "slide":
+                extra += [f"s[{name},{k + 1}]" for k in range(self.ck.dims[c])]
+        return rows, extra
+
     def form_system(self, mode: Mode, independent=None) -> FormSystem:
-        """The compiled form for *mode* (derived once per mode and choice of independent
-        coordinates)."""
+        """The compiled form for the structure of *mode* (and a choice of independent
+        coordinates), derived once."""
         independent = independent if independent is not None else self.independent
-        key = (mode, independent)
+        key = (mode.structure, independent)
         fs = self._forms.get(key)
         if fs is None:
-            rows = [self.kernel.rows[i] for i in self.rows(mode)]
+            rows, extra = self._symbolic_rows(mode)
             eom = derive(self.model, self.form, rows=rows, independent=independent)
-            fs = FormSystem(eom)
+            fs = FormSystem(eom, extra=extra)
             self._forms[key] = fs
             if independent is None:
-                self._forms[(mode, eom.independent)] = fs
+                self._forms[(mode.structure, eom.independent)] = fs
         return fs
 
-    def _current_form(self, mode: Mode, G: np.ndarray, idx: list[int]) -> FormSystem:
+    def _current_form(self, mode: Mode, Gm: np.ndarray, layout: list[RowSpec]) -> FormSystem:
         """The form for *mode*; when the user did not fix the independent coordinates and the
         dependent block of the current choice is ill-conditioned at this state, re-partition
         (pivoted QR at the state) -- coordinate partitioning, as in multibody codes."""
-        fs = self._active.get(mode) or self.form_system(mode)
+        key = mode.structure
+        fs = self._active.get(key) or self.form_system(mode)
         if self.independent is not None or not fs.eom.eliminated:
-            self._active[mode] = fs
+            self._active[key] = fs
             return fs
-        ideal = [i for i in idx if self.kernel.rows[i].reaction_kind == "ideal"]
+        ideal = [j for j, r in enumerate(layout) if self._ideal(mode, r)]
         if not ideal:
             return fs
         coords = list(self.model.coordinates)
-        Gi = G[ideal]
+        Gi = Gm[ideal]
         dep = [coords.index(c) for c in coords if c not in fs.eom.independent]
         s_all = np.linalg.svd(Gi, compute_uv=False)
-        s_dep = np.linalg.svd(Gi[:, dep], compute_uv=False)
-        if s_dep[-1] < 1e-3 * s_all[0]:
+        s_dep = np.linalg.svd(Gi[:, dep], compute_uv=False) if dep else np.array([1.0])
+        if len(dep) != len(ideal) or s_dep[-1] < 1e-3 * s_all[0]:
             from scipy.linalg import qr
             _, _, piv = qr(Gi, pivoting=True)
             new_dep = sorted(piv[:len(ideal)])
             ind = tuple(c for j, c in enumerate(coords) if j not in new_dep)
             fs = self.form_system(mode, ind)
-        self._active[mode] = fs
+        self._active[key] = fs
         return fs
 
-    def accelerations(self, t: float, q: np.ndarray, qd: np.ndarray, mode: Mode):
-        """Fast path for the right-hand side: ``(qdd, mu, rows, kernel_outputs)``.
+    def _ideal(self, mode: Mode, r: RowSpec) -> bool:
+        if r.kind == "constraint":
+            return self.kernel.rows[r.index].reaction_kind == "ideal"
+        if r.kind == "tangent":
+            return True
+        return mode.contacts[r.index][1].state == STICK
 
-        The kernel outputs are views into a reused buffer (valid until the next call).
+    # ------------------------------------------------------------------ evaluation
+    def accelerations(self, t: float, q: np.ndarray, qd: np.ndarray, mode: Mode):
+        """Fast path for the right-hand side: ``(qdd, values, layout, out, cout)``.
+
+        ``values`` are the multipliers of the mode's rows (``None`` for a reduced form, which
+        eliminates the ideal ones; :meth:`solve` recovers them).  ``out``/``cout`` are views
+        into reused buffers, valid until the next call.
         """
         x = self.input(t, q, qd)
         out = self.kernel.dynamics(x)
-        idx = self.rows(mode)
+        cout = self.ck(x) if self.ck else None
+        layout = self.layout(mode)
         M, F = out["M"], out["F"]
         try:
-            if self.form == "lagrange1":
-                if idx:
-                    qdd, mu = solve_saddle(M, F, out["B"][:, idx], out["G"][idx], out["gamma"][idx])
-                else:
+            if not layout:
+                if self.form == "lagrange1":
                     qdd, mu = solve_saddle(M, F)
-                return qdd, mu, idx, out, None
-            G = out["G"] if self.kernel.m else np.zeros((0, self.kernel.n))
-            fs = self._current_form(mode, G, idx)
-            _, mu_form, qdd = fs.solve(x)
-            return qdd, None, idx, out, dict(zip(fs.eom.constraint_names, map(float, mu_form)))
+                    return qdd, mu, layout, out, cout
+                Gm = np.zeros((0, self.n))
+            else:
+                Gm, gm, Bm = self.assemble(mode, layout, out, cout)
+                if self.form == "lagrange1":
+                    qdd, mu = solve_saddle(M, F, Bm, Gm, gm)
+                    return qdd, mu, layout, out, cout
+            fs = self._current_form(mode, Gm, layout)
+            extra = self._extra_values(mode, cout)
+            xb = np.concatenate((x, extra)) if extra.size else x
+            _, mu_form, qdd = fs.solve(xb)
+            self._last_direct = dict(zip(fs.eom.constraint_names, map(float, mu_form)))
+            return qdd, None, layout, out, cout
         except SingularMatrix:
-            m_all = self.kernel.m
-            G = out["G"][idx] if m_all else np.zeros((0, self.kernel.n))
-            B = out["B"][:, idx] if m_all else np.zeros((self.kernel.n, 0))
-            raise diagnose_singular(self.kernel, M, G, B, idx, t, q, qd) from None
+            Gm, gm, Bm = self.assemble(mode, layout, out, cout) if layout else (
+                np.zeros((0, self.n)), np.zeros(0), np.zeros((self.n, 0)))
+            raise diagnose_singular(self, M, Gm, Bm, layout, t, q, qd) from None
+
+    def _extra_values(self, mode: Mode, cout) -> np.ndarray:
+        vals = []
+        for c, (name, cs) in enumerate(mode.contacts):
+            if cs.state in (SLIDE, SMOOTH):
+                o, d = self.ck.offsets[c], self.ck.dims[c]
+                vals.extend(self.friction_shape(c, cs, cout["U"][o:o + d]))
+        return np.array(vals, dtype=float)
 
     def solve(self, t: float, q: np.ndarray, qd: np.ndarray, mode: Mode) -> Solution:
-        """Accelerations and the multiplier of every active row at a state.
+        """Accelerations, multipliers, contact forces at a state.
 
         Raises
         ------
         SingularSystem
             Singular mass matrix or dependent constraints (named).
         """
-        qdd, mu, idx, out, direct = self.accelerations(t, q, qd, mode)
-        n, m_all = self.kernel.n, self.kernel.m
+        qdd, values, layout, out, cout = self.accelerations(t, q, qd, mode)
+        n, m_all = self.n, self.kernel.m
+        qdd = np.array(qdd, dtype=float)
         M, F = out["M"].copy(), out["F"].copy()
         G = out["G"].copy() if m_all else np.zeros((0, n))
         gamma = out["gamma"].copy() if m_all else np.zeros(0)
         B = out["B"].copy() if m_all else np.zeros((n, 0))
-        if mu is None:
-            mu = recover_multipliers(M, F, B[:, idx], qdd) if idx else np.zeros(0)
-            for j, i in enumerate(idx):
-                name = self.kernel.rows[i].name
-                if name in direct:
-                    mu[j] = direct[name]
+        cout = {k: (np.array(v) if isinstance(v, np.ndarray) else v) for k, v in cout.items()} if cout else None
+        if layout:
+            Gm, gm, Bm = self.assemble(mode, layout, out, cout)
         else:
-            direct = {self.kernel.rows[i].name: float(v) for i, v in zip(idx, mu)}
-        return Solution(np.array(qdd, dtype=float), idx, np.array(mu, dtype=float), M, F, G, gamma, B, direct)
+            Gm, gm, Bm = np.zeros((0, n)), np.zeros(0), np.zeros((n, 0))
+        direct = {}
+        if values is None:
+            values = recover_multipliers(M, F, Bm, qdd) if layout else np.zeros(0)
+            direct = dict(getattr(self, "_last_direct", {}))
+            for j, r in enumerate(layout):
+                if r.name in direct:
+                    values[j] = direct[r.name]
+        else:
+            values = np.array(values, dtype=float)
+            direct = {r.name: float(v) for r, v in zip(layout, values)}
+        rows = [r.index for r in layout if r.kind == "constraint"]
+        mults = np.array([v for r, v in zip(layout, values) if r.kind == "constraint"])
+        contacts, friction = self._contact_forces(mode, layout, values, cout, qdd)
+        return Solution(qdd, rows, mults, layout, values, M, F, G, gamma, B, Gm, gm, Bm,
+                        contacts, friction, direct)
+
+    def _contact_forces(self, mode, layout, values, cout, qdd):
+        friction = np.zeros(self.n)
+        contacts = {}
+        if not self.ck:
+            return contacts, friction
+        normal = {r.index: values[j] for j, r in enumerate(layout) if r.kind == "normal"}
+        tang = {(r.index, r.k): values[j] for j, r in enumerate(layout) if r.kind == "tangent"}
+        for c, (name, cs) in enumerate(mode.contacts):
+            o, d = self.ck.offsets[c], self.ck.dims[c]
+            U = cout["U"][o:o + d].copy()
+            W = cout["W"][o:o + d]
+            Udot = W @ qdd + cout["gamma_U"][o:o + d]
+            gacc = float(cout["Gn"][c] @ qdd + cout["gamma_n"][c])
+            N = float(normal.get(c, 0.0))
+            if cs.state == STICK:
+                Fv = np.array([tang[(c, k)] for k in range(d)])
+            elif cs.state in (SLIDE, SMOOTH):
+                Fv = -cs.sigma * cout["mu"][c] * N * self.friction_shape(c, cs, U)
+            else:
+                Fv = np.zeros(d)
+            friction += Fv @ W
+            contacts[name] = ContactForce(cs.label(), N, Fv, U, Udot, float(cout["gap"][c]),
+                                          float(cout["gap_rate"][c]), gacc, float(cout["mu"][c]),
+                                          float(cout["mu_s"][c]))
+        return contacts, friction
 
 
 def recover_multipliers(M: np.ndarray, F: np.ndarray, B: np.ndarray, qdd: np.ndarray) -> np.ndarray:
@@ -200,26 +471,27 @@ def recover_multipliers(M: np.ndarray, F: np.ndarray, B: np.ndarray, qdd: np.nda
     return mu
 
 
-def diagnose_singular(kernel: Kernel, M, G, B, idx, t, q, qd) -> Exception:
+def diagnose_singular(solver: ModeSolver, M, G, B, layout, t, q, qd) -> Exception:
     """Turn a singular linear system into an actionable error naming what is singular."""
+    kernel = solver.kernel
     names = list(kernel.model.coordinates)
     n = kernel.n
     src = None if kernel.model.source == "<api>" else kernel.model.source
     where = f" at t = {t:.6g}, q = {dict(zip(names, np.round(q, 6)))}"
-    if idx:
+    m = len(layout)
+    if m:
         rank = np.linalg.matrix_rank(G)
-        if rank < len(idx):
-            # find the dependent rows greedily
+        if rank < m:
             dep, keep = [], []
-            for j, i in enumerate(idx):
+            for j, r in enumerate(layout):
                 if np.linalg.matrix_rank(G[keep + [j]]) == len(keep) + 1:
                     keep.append(j)
                 else:
-                    dep.append(kernel.rows[i].name)
+                    dep.append(r.name)
             return SingularSystem(
                 f"dependent (redundant) constraints: {', '.join(repr(d) for d in dep)} "
                 f"repeat what the others impose{where}; remove them or make them independent", src)
-        U, s, Vt = np.linalg.svd(G)
+        _, _, Vt = np.linalg.svd(G)
         null = Vt[rank:].T
     else:
         null = np.eye(n)
@@ -233,134 +505,20 @@ def diagnose_singular(kernel: Kernel, M, G, B, idx, t, q, qd) -> Exception:
             f"singular mass matrix{where}: the kinetic energy does not depend on the velocity "
             f"combination {combo}; give that motion inertia (mass or moment of inertia) or "
             "constrain it", src)
-    if idx and not np.allclose(B, G.T):
+    if m and not np.allclose(B, G.T):
         return MechanicsError(
-            "the non-ideal constraints (servo / quasi-ideal / friction) cannot be realized by "
-            "their reactions: G M^-1 B is singular" + where)
+            "the non-ideal reactions (servo / quasi-ideal / friction) cannot realize the "
+            "constraints: G M^-1 B is singular (for a sliding contact this is the boundary of "
+            "Painleve's paradox)" + where)
     return SingularSystem(f"the equations of motion are singular{where}", src)
 
 
-# --------------------------------------------------------------------------- mode selection
+def coulomb_exact(law) -> bool:
+    return isinstance(law, Coulomb)
 
 
-def _candidates(solver: ModeSolver, t, q, qd, tol_pos: float, tol_vel: float):
-    out = solver.kernel.observables(solver.input(t, q, qd))
-    closed = []
-    for i in solver.unilateral:
-        if abs(out["pos"][i]) <= tol_pos and out["vel"][i] <= tol_vel:
-            closed.append(i)
-    return closed
+def select_mode(*args, **kwargs):
+    """See :func:`nonideal.switching.select_mode` (re-exported here for convenience)."""
+    from .switching import select_mode as _select
 
-
-def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
-                tol_pos: float = 1e-9, tol_vel: float = 1e-9) -> Mode:
-    """Choose the held unilateral constraints at a state (complementarity by enumeration).
-
-    A constraint is a candidate when it is closed (``f ~ 0``, ``f' ~ 0``).  A candidate set is
-    consistent when every held multiplier is ``>= 0`` and every released candidate separates
-    (``f'' >= 0``).
-
-    Raises
-    ------
-    MechanicsError
-        No consistent set, or several that give different accelerations.
-    """
-    scale_q = 1 + np.max(np.abs(q))
-    scale_v = 1 + np.max(np.abs(qd))
-    closed = _candidates(solver, t, q, qd, tol_pos * scale_q, tol_vel * scale_v)
-    names = [solver.kernel.rows[i].name for i in closed]
-    if len(closed) > MAX_ENUMERATION:
-        raise MechanicsError(f"too many simultaneous contacts to enumerate ({len(closed)})", t)
-    consistent = []
-    for k in range(len(closed), -1, -1):
-        for subset in itertools.combinations(range(len(closed)), k):
-            mode = Mode(frozenset(names[j] for j in subset))
-            sol = solver.solve(t, q, qd, mode)
-            scale_f = 1e-9 * (1 + np.max(np.abs(sol.F)) + np.max(np.abs(sol.multipliers), initial=0))
-            ok = all(sol.multiplier(closed[j]) >= -scale_f for j in subset)
-            if ok:
-                for j in range(len(closed)):
-                    if j in subset:
-                        continue
-                    i = closed[j]
-                    acc = sol.G[i] @ sol.qdd + sol.gamma[i]
-                    if acc < -1e-9 * (1 + np.max(np.abs(sol.qdd))):
-                        ok = False
-                        break
-            if ok:
-                consistent.append((mode, sol))
-    if not consistent:
-        raise MechanicsError(
-            "no consistent set of held unilateral constraints: every choice among "
-            f"{names} either pulls (negative multiplier) or penetrates", t,
-            dict(zip(solver.model.coordinates, q)))
-    mode0, sol0 = consistent[0]
-    for mode, sol in consistent[1:]:
-        if not np.allclose(sol.qdd, sol0.qdd, rtol=1e-7, atol=1e-9 * (1 + np.max(np.abs(sol0.qdd)))):
-            raise MechanicsError(
-                f"the motion is not unique: held sets [{mode0.label()}] and [{mode.label()}] are "
-                "both consistent and give different accelerations", t,
-                dict(zip(solver.model.coordinates, q)))
-    return mode0
-
-
-def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting: list[int],
-           restitution: dict[int, float] | None = None):
-    """Velocity jump when unilateral constraints close (impact law per constraint).
-
-    The impulse set is chosen by enumeration so that impulses are ``>= 0`` and constraints
-    without impulse do not approach (``f'+ >= 0``); bilateral constraints always keep their
-    velocity-level equation.  Plastic impact (``e = 0``) makes the normal velocity zero;
-    Newton's law (``e > 0``) reverses it.
-
-    Returns
-    -------
-    qd_plus : ndarray
-    impulses : dict name -> impulse
-    """
-    restitution = restitution or {}
-    kernel = solver.kernel
-    x = solver.input(t, q, qd)
-    out = kernel.dynamics(x)
-    obs = kernel.observables(x)
-    M = out["M"]
-    G, B = out["G"], out["B"]
-    vel = obs["vel"]
-    scale_q = 1 + np.max(np.abs(q))
-    closed = [i for i in solver.unilateral if abs(obs["pos"][i]) <= 1e-8 * scale_q]
-    for i in hitting:
-        if i not in closed:
-            closed.append(i)
-    eq_rows = [i for i in solver.bilateral if kernel.rows[i].velocity is not None]
-    best = None
-    for k in range(len(closed), -1, -1):
-        for subset in itertools.combinations(closed, k):
-            rows = eq_rows + list(subset)
-            if not rows:
-                qd_plus, lam = qd.copy(), np.zeros(0)
-            else:
-                Gr = G[rows]
-                c = vel[rows] - Gr @ qd
-                target = np.array([-restitution.get(i, 0.0) * min(vel[i], 0.0) if i in subset else 0.0
-                                   for i in rows])
-                try:
-                    qd_plus, lam = solve_saddle(M, M @ qd, B[:, rows], Gr, c - target)
-                except SingularMatrix:
-                    continue
-            ok = all(lam[len(eq_rows) + j] >= -1e-12 * (1 + np.max(np.abs(lam))) for j in range(k))
-            if ok:
-                for i in closed:
-                    if i not in subset:
-                        vplus = G[i] @ qd_plus + (vel[i] - G[i] @ qd)
-                        if vplus < -1e-10 * (1 + np.max(np.abs(qd_plus))):
-                            ok = False
-                            break
-            if ok:
-                best = (qd_plus, {kernel.rows[r].name: float(v) for r, v in zip(rows, lam)})
-                break
-        if best is not None:
-            break
-    if best is None:
-        raise MechanicsError("no consistent impact: every impulse set pulls or lets a contact "
-                             "penetrate", t, dict(zip(solver.model.coordinates, q)))
-    return best
+    return _select(*args, **kwargs)

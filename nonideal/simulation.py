@@ -2,19 +2,20 @@
 
 Design (as recommended for hybrid systems): integrate one smooth phase with a fixed mode,
 stepping the solver by hand; after each accepted step evaluate the event functions of the
-mode, locate the earliest sign change on the dense output with Brent's method, apply the
-switch (impact law, mode selection) and restart the solver from the new state.
+mode (:mod:`nonideal.events`), locate the earliest sign change on the dense output with
+Brent's method, apply the switch (impact law, mode selection of :mod:`nonideal.switching`)
+and restart the solver from the new state.
 
 State: ``y = [q, q', W]`` -- all coordinates and velocities (whatever formalism evaluates the
 accelerations) and, when they are not identically zero, the work integrals of the
-non-potential forces, the reactions and the explicit time dependence.  Integrating the works
-with the motion gives the energy balance to integrator precision.
+non-potential forces, the ideal/servo reactions, the explicit time dependence and friction.
+Integrating the works with the motion gives the energy balance to integrator precision.
 
 Constraint drift: the constraints are enforced at acceleration level; after every accepted
-step the position and velocity residuals of the active constraints are checked and, above
-``1e-10`` (relative), the state is projected back (least-norm Newton) and the solver restarted.
-We chose projection over Baumgarte stabilization because it adds no artificial dynamics and
-no time-scale parameter; at tight tolerances it is rarely triggered, so it costs little.
+step the position and velocity residuals of the active rows are checked and, above ``1e-10``
+(relative), the state is projected back (least-norm Newton) and the solver restarted.  We
+chose projection over Baumgarte stabilization because it adds no artificial dynamics and no
+time-scale parameter; at tight tolerances it is rarely triggered, so it costs little.
 """
 
 from __future__ import annotations
@@ -26,17 +27,20 @@ from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 from scipy.optimize import brentq
 
 from .consistency import complete_state, project_state
-from .errors import IntegrationFailed, ModelError
-from .events import Event, EventContext, Release, Touch
+from .errors import IntegrationFailed, ModelError, PainleveParadox
+from .events import (ContactTouch, Event, EventContext, Jam, Lift, Release, SlipStart, SlipStop,
+                     Touch)
 from .model import Model
-from .modes import Mode, ModeSolver, impact, select_mode
+from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, ModeSolver
 from .numeric import kernel_of, parameter_vector
+from .switching import effective_compliance, impact, select_mode
 from .trajectory import Sample, Trajectory
 
 __all__ = ["simulate", "Simulation"]
 
 SOLVERS = {"DOP853": DOP853, "RK45": RK45, "RK23": RK23, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 PROJECTION_TOL = 1e-10
+N_WORK = 4  # active (non-potential), reactions, explicit time, friction
 
 
 class Simulation:
@@ -53,12 +57,15 @@ class Simulation:
         Integrator settings; default from the model's ``[simulation]``.
     independent : tuple of str, optional
         Independent coordinates for the reduced forms.
+    detect_jam : bool
+        Watch the effective normal compliance of sliding contacts (Painleve's paradox).
     """
 
     def __init__(self, model: Model, form: str = "lagrange1",
                  parameters: Mapping[str, float] | None = None, rtol: float | None = None,
                  atol: float | None = None, method: str | None = None,
-                 max_step: float | None = None, independent=None, max_events: int = 10_000):
+                 max_step: float | None = None, independent=None, max_events: int = 10_000,
+                 detect_jam: bool = True):
         self.model = model
         self.kernel = kernel_of(model)
         self.params = parameter_vector(model, parameters)
@@ -71,8 +78,10 @@ class Simulation:
             raise ModelError(f"--method: unknown integrator '{self.method}'; choose one of {', '.join(SOLVERS)}")
         self.max_step = max_step if max_step is not None else (sim.max_step or np.inf)
         self.max_events = max_events
+        self.detect_jam = detect_jam
         k = self.kernel
-        self.track = bool(k.rows) or k.has_nc_forces or k.explicit_time
+        self.contacts = bool(self.solver.ck)
+        self.track = bool(k.rows) or k.has_nc_forces or k.explicit_time or self.contacts
         self.n = k.n
 
     # ------------------------------------------------------------------ right-hand side
@@ -87,24 +96,36 @@ class Simulation:
             return fun
 
         powers = kernel.has_nc_forces or kernel.explicit_time
+        friction = self.contacts and any(cs.state != SEPARATED for _, cs in mode.contacts)
 
         def fun(t, y):
             q, qd = y[:n], y[n:2 * n]
-            qdd, mu, idx, out, direct = solver.accelerations(t, q, qd, mode)
             dy = np.empty_like(y)
             dy[:n] = qd
+            if friction:
+                sol = solver.solve(t, q, qd, mode)
+                qdd = sol.qdd
+                P_f = sol.friction @ qd
+                R = sol.M @ qdd - sol.F
+            else:
+                qdd, values, layout, out, cout = solver.accelerations(t, q, qd, mode)
+                P_f = 0.0
+                R = out["M"] @ qdd - out["F"] if layout else None
             dy[n:2 * n] = qdd
-            # power of the total generalized reaction R = M q'' - F
-            dy[2 * n + 1] = (out["M"] @ qdd - out["F"]) @ qd if idx else 0.0
+            # power of the total generalized reaction R = M q'' - F, split into friction
+            # and the rest (ideal and servo reactions)
+            dy[2 * n + 1] = (R @ qd - P_f) if R is not None else 0.0
+            dy[2 * n + 3] = P_f
             if powers:
-                dy[2 * n], dy[2 * n + 2] = out["P"]
+                P = kernel.dynamics(solver.input(t, q, qd))["P"]
+                dy[2 * n], dy[2 * n + 2] = P
             else:
                 dy[2 * n] = dy[2 * n + 2] = 0.0
             return dy
         return fun
 
     # ------------------------------------------------------------------ events
-    def events(self, mode: Mode) -> list[Event]:
+    def events(self, mode: Mode, t: float, y: np.ndarray) -> list[Event]:
         out: list[Event] = []
         for i in self.solver.unilateral:
             name = self.kernel.rows[i].name
@@ -112,50 +133,122 @@ class Simulation:
                 out.append(Release("release", name, i))
             else:
                 out.append(Touch("contact", name, i))
+        for c, (name, cs) in enumerate(mode.contacts):
+            bilateral = self.solver.ck.data[c].bilateral
+            if cs.state == SEPARATED:
+                out.append(ContactTouch("touch", name, c))
+                continue
+            if not bilateral:
+                out.append(Lift("lift-off", name, c))
+            elif cs.state in (SLIDE, SMOOTH):
+                out.append(Lift("normal-sign", name, c, sigma=cs.sigma))
+            if cs.state == STICK:
+                out.append(SlipStart("slip", name, c))
+            elif cs.state == SLIDE:
+                d = self.solver.ck.dims[c]
+                direction = cs.direction[0] if d == 1 else 1.0
+                out.append(SlipStop("stick" if d == 1 else "slip-stop", name, c, direction=direction))
+                if self.detect_jam and not bilateral:
+                    out.append(Jam("jam", name, c))
         return out
 
     def context(self, t: float, y: np.ndarray, mode: Mode) -> EventContext:
         n = self.n
         q, qd = y[:n], y[n:2 * n]
         sol = self.solver.solve(t, q, qd, mode)
-        obs = self.kernel.observables(self.solver.input(t, q, qd))
-        return EventContext(t, q, qd, sol, obs)
+        obs = self.kernel.observables(self.solver.input(t, q, qd)) if self.kernel.rows else {}
+        return EventContext(t, q, qd, sol, obs, self.solver, mode)
 
     def _tolerance(self, ev: Event, ctx: EventContext) -> float:
-        if isinstance(ev, Release):
-            return 1e-9 * (1.0 + float(np.max(np.abs(ctx.solution.F))))
+        force = 1.0 + float(np.max(np.abs(ctx.solution.F)))
+        if isinstance(ev, (Release, Lift, SlipStart)):
+            return 1e-9 * force
+        if isinstance(ev, Jam):
+            return 1e-12
+        if isinstance(ev, SlipStop):
+            return 1e-10 * (1.0 + float(np.max(np.abs(ctx.qd))))
         return 1e-10 * (1.0 + float(np.max(np.abs(ctx.q))))
 
     # ------------------------------------------------------------------ switching
     def _switch(self, t: float, y: np.ndarray, mode: Mode, ev: Event):
         n = self.n
         q, qd = y[:n].copy(), y[n:2 * n].copy()
+        y = y.copy()
         record = ev.record(t)
-        if isinstance(ev, Touch):
+        if isinstance(ev, Jam):
+            state = dict(zip(self.model.coordinates, q))
+            state.update({c + "'": v for c, v in zip(self.model.coordinates, qd)})
+            from .switching import critical_friction
+            mu_c = critical_friction(self.solver, t, q, qd, mode, ev.name)
+            raise PainleveParadox(
+                f"Painleve paradox at contact '{ev.name}': while sliding, its effective normal "
+                "compliance b = dg''/dN reached zero -- the normal force grows without bound and "
+                "beyond this state sliding has no consistent continuation under rigid-body "
+                "Coulomb friction (tangential impact / dynamic jamming)", t, state,
+                {"critical friction coefficient": f"{mu_c:.6g}" if mu_c else "none",
+                 "mode": mode.label()})
+        if isinstance(ev, (Touch, ContactTouch)):
             rest = {i: c.restitution for i, c in self._restitution.items()}
             e_before = self._energy(t, q, qd)
-            vel = self.kernel.observables(self.solver.input(t, q, qd))["vel"][ev.row]
-            qd, impulses = impact(self.solver, t, q, qd, [ev.row], rest)
+            if isinstance(ev, Touch):
+                vel = self.kernel.observables(self.solver.input(t, q, qd))["vel"][ev.row]
+                qd, impulses = impact(self.solver, t, q, qd, [ev.row], rest)
+            else:
+                vel = self.solver.ck(self.solver.input(t, q, qd))["gap_rate"][ev.row]
+                qd, impulses = impact(self.solver, t, q, qd, (), rest, contacts_hit=[ev.name])
             loss = self._energy(t, q, qd) - e_before
             record.update(normal_velocity=float(vel), impulses=impulses, energy_change=float(loss))
             if self.track:
-                y = y.copy()
                 y[2 * n + 1] += loss  # work of the impulsive reactions
             new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8)
         else:
-            held = set(mode.held) - {ev.name}
-            new = Mode(frozenset(held))
-            sol = self.solver.solve(t, q, qd, new)
-            ok = all(sol.multiplier(self.kernel.row_index[h]) >= -1e-9 * (1 + np.max(np.abs(sol.F)))
-                     for h in held)
-            if not ok:
-                new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8)
-        rows = self.solver.rows(new)
-        q, qd = project_state(self.kernel, rows, t, q, qd, self.params)
-        y = y.copy()
+            new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8,
+                              exclude=mode if ev.excludes_current else None)
+        q, qd = self._project(new, t, q, qd)
         y[:n], y[n:2 * n] = q, qd
         record["mode"] = new.label()
         return y, new, record
+
+    def _project(self, mode: Mode, t, q, qd):
+        """Project onto the constraint rows of *mode* (constraints, closed gaps, stick rows)."""
+        rows = self.solver.rows(mode)
+        q, qd = project_state(self.kernel, rows, t, q, qd, self.params)
+        if not self.contacts:
+            return q, qd
+        for _ in range(4):
+            sol = self.solver.solve(t, q, qd, mode)
+            Gp, rp, Gv, rv = [], [], [], []
+            for c, (name, cs) in enumerate(mode.contacts):
+                if cs.state == SEPARATED:
+                    continue
+                cf = sol.contacts[name]
+                o = self.solver.ck.offsets[c]
+                cout = self.solver.ck(self.solver.input(t, q, qd))
+                Gp.append(cout["Gn"][c].copy())
+                rp.append(cf.gap)
+                Gv.append(cout["Gn"][c].copy())
+                rv.append(cf.gap_rate)
+                if cs.state == STICK:
+                    for k in range(self.solver.ck.dims[c]):
+                        Gv.append(cout["W"][o + k].copy())
+                        rv.append(cf.U[k])
+            if not Gp:
+                break
+            scale = 1 + np.max(np.abs(q))
+            if max(np.max(np.abs(rp)), np.max(np.abs(rv), initial=0.0)) < 1e-14 * scale:
+                break
+            for i in rows:  # keep the constraints while correcting the contacts
+                r = self.kernel.rows[i]
+                out = self.kernel.dynamics(self.solver.input(t, q, qd))
+                if r.position is not None:
+                    Gp.append(out["G"][i].copy())
+                    rp.append(0.0)
+                if r.velocity is not None:
+                    Gv.append(out["G"][i].copy())
+                    rv.append(0.0)
+            q = q + np.linalg.lstsq(np.array(Gp), -np.array(rp), rcond=None)[0]
+            qd = qd + np.linalg.lstsq(np.array(Gv), -np.array(rv), rcond=None)[0]
+        return q, qd
 
     def _energy(self, t, q, qd) -> float:
         """Jacobi's energy ``T2 - T0 + V`` at a state."""
@@ -166,8 +259,7 @@ class Simulation:
 
     @property
     def _restitution(self):
-        return {i: c for i, c in ((self.kernel.row_index[c.name], c) for c in self.model.constraints
-                                  if c.unilateral)}
+        return {self.kernel.row_index[c.name]: c for c in self.model.constraints if c.unilateral}
 
     # ------------------------------------------------------------------ main loop
     def initial_state(self, initial: Mapping[str, float] | None = None):
@@ -196,7 +288,7 @@ class Simulation:
 
         Raises
         ------
-        IntegrationFailed, MechanicsError, InconsistentInitialConditions
+        IntegrationFailed, MechanicsError (PainleveParadox), InconsistentInitialConditions
         """
         model = self.model
         t0 = model.t0
@@ -216,7 +308,8 @@ class Simulation:
         n = self.n
         q0, qd0 = self.initial_state(initial)
         mode = select_mode(self.solver, t0, q0, qd0)
-        y = np.concatenate((q0, qd0, np.zeros(3 if self.track else 0)))
+        q0, qd0 = self._project(mode, t0, q0, qd0)
+        y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))
         samples: list[Sample] = []
         events_log: list[dict] = []
         next_time = 0
@@ -234,10 +327,11 @@ class Simulation:
         Solver = SOLVERS[self.method]
         while t < t_end:
             fun = self.rhs(mode)
-            events = self.events(mode)
+            events = self.events(mode, t, y)
             kwargs = dict(rtol=self.rtol, atol=self.atol, max_step=self.max_step)
             if h is not None and self.method not in ("LSODA",):
                 kwargs["first_step"] = min(h, t_end - t)
+            self.solver.set_references(mode, t, y[:n], y[n:2 * n])
             ode = Solver(fun, t, y, t_end, **kwargs)
             ctx = self.context(t, y, mode)
             g_prev = [ev.value(ctx) for ev in events]
@@ -247,6 +341,7 @@ class Simulation:
             while not restart:
                 message = ode.step()
                 if ode.status == "failed":
+                    self._explain_failure(ode, mode)
                     raise IntegrationFailed(ode.t, mode.label(), message or "step failed",
                                             None if model.source == "<api>" else model.source)
                 t_old, t_new = ode.t_old, ode.t
@@ -267,8 +362,7 @@ class Simulation:
                     def g(s, ev=ev, shift=shift):
                         return ev.value(self.context(s, dense(s), mode)) + shift
                     a, b = t_old, t_new
-                    ga = g(a)
-                    if ga <= 0:
+                    if g(a) <= 0:
                         te = a
                     else:
                         te = brentq(g, a, b, xtol=1e-15 * max(1.0, abs(b)), rtol=8.9e-16, maxiter=200)
@@ -295,30 +389,29 @@ class Simulation:
                 for k in range(len(events)):
                     if not armed[k] and g_new[k] > tols[k]:
                         armed[k] = True
+                if self.solver.reference:
+                    self.solver.set_references(mode, t_new, ode.y[:n], ode.y[n:2 * n])
+                    ctx = self.context(t_new, ode.y, mode)
+                    g_new = [ev.value(ctx) for ev in events]
                 g_prev = g_new
                 # drift control
-                rows = self.solver.rows(mode)
-                if rows:
-                    res_p, res_v = self._residuals(t_new, ode.y, rows)
-                    residual_max["position"] = max(residual_max["position"], res_p)
-                    residual_max["velocity"] = max(residual_max["velocity"], res_v)
-                    scale = 1 + np.max(np.abs(ode.y[:2 * n]))
-                    if max(res_p, res_v) > PROJECTION_TOL * scale:
-                        if times is not None:
-                            next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times,
-                                                           next_time, mode, emit, include_end=False)
-                        y = ode.y.copy()
-                        q, qd = project_state(self.kernel, rows, t_new, y[:n], y[n:2 * n], self.params)
-                        y[:n], y[n:2 * n] = q, qd
-                        projections += 1
-                        t = t_new
-                        if times is None:
-                            emit(t, y, mode)
-                        elif next_time < times.size and abs(times[next_time] - t) <= 1e-13 * max(1, abs(t)):
-                            emit(t, y, mode)
-                            next_time += 1
-                        restart = True
-                        continue
+                res_p, res_v = self._residuals(ctx, mode)
+                residual_max["position"] = max(residual_max["position"], res_p)
+                residual_max["velocity"] = max(residual_max["velocity"], res_v)
+                scale = 1 + np.max(np.abs(ode.y[:2 * n]))
+                if max(res_p, res_v) > PROJECTION_TOL * scale:
+                    if times is not None:
+                        next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times,
+                                                       next_time, mode, emit, include_end=False)
+                    y = ode.y.copy()
+                    q, qd = self._project(mode, t_new, y[:n], y[n:2 * n])
+                    y[:n], y[n:2 * n] = q, qd
+                    projections += 1
+                    t = t_new
+                    if times is None:
+                        emit(t, y, mode)
+                    restart = True
+                    continue
                 if times is None:
                     emit(t_new, ode.y, mode)
                 else:
@@ -344,13 +437,40 @@ class Simulation:
         }
         return Trajectory.from_samples(self, samples, events_log, diagnostics, residual_max)
 
-    def _residuals(self, t, y, rows):
+    def _explain_failure(self, ode, mode: Mode) -> None:
+        """If a sliding contact is at the edge of Painleve's paradox, say so instead."""
         n = self.n
-        obs = self.kernel.observables(self.solver.input(t, y[:n], y[n:2 * n]))
-        pos_rows = [i for i in rows if self.kernel.rows[i].position is not None]
-        vel_rows = [i for i in rows if self.kernel.rows[i].velocity is not None]
-        rp = float(np.max(np.abs(obs["pos"][pos_rows]))) if pos_rows else 0.0
-        rv = float(np.max(np.abs(obs["vel"][vel_rows]))) if vel_rows else 0.0
+        for name, cs in mode.contacts:
+            if cs.state != SLIDE:
+                continue
+            try:
+                b = effective_compliance(self.solver, ode.t, ode.y[:n], ode.y[n:2 * n], mode, name)
+            except Exception:  # pragma: no cover
+                continue
+            if b <= 1e-6:
+                state = dict(zip(self.model.coordinates, ode.y[:n]))
+                raise PainleveParadox(
+                    f"Painleve paradox at contact '{name}': the integration stalled while the "
+                    f"effective normal compliance b = {b:.3g} of the sliding contact vanished -- the "
+                    "normal force grows without bound (dynamic jamming)", ode.t, state)
+
+    def _residuals(self, ctx: EventContext, mode: Mode):
+        rows = self.solver.rows(mode)
+        rp = rv = 0.0
+        if rows:
+            obs = ctx.observables
+            pos = [i for i in rows if self.kernel.rows[i].position is not None]
+            vel = [i for i in rows if self.kernel.rows[i].velocity is not None]
+            rp = float(np.max(np.abs(obs["pos"][pos]))) if pos else 0.0
+            rv = float(np.max(np.abs(obs["vel"][vel]))) if vel else 0.0
+        for name, cs in mode.contacts:
+            if cs.state == SEPARATED:
+                continue
+            cf = ctx.solution.contacts[name]
+            rp = max(rp, abs(cf.gap))
+            rv = max(rv, abs(cf.gap_rate))
+            if cs.state == STICK:
+                rv = max(rv, float(np.max(np.abs(cf.U))))
         return rp, rv
 
     @staticmethod
@@ -380,7 +500,7 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
         Formalism used to evaluate the accelerations.
     **options
         ``parameters``, ``rtol``, ``atol``, ``method``, ``max_step``, ``independent``,
-        ``initial``.
+        ``initial``, ``detect_jam``.
 
     Returns
     -------

@@ -78,11 +78,22 @@ class Trajectory:
         V = np.zeros(N)
         E = np.zeros(N)
         res_p = res_v = 0.0
+        ck = solver.ck
+        contacts = {name: {"normal": np.zeros(N), "friction": np.zeros((N, d)), "slip": np.zeros((N, d)),
+                           "gap": np.zeros(N), "mode": []}
+                    for name, d in zip(ck.names, ck.dims)} if ck else {}
         for k, s in enumerate(samples):
             sol = solver.solve(s.t, q[k], qd[k], s.mode)
             qdd[k] = sol.qdd
             for j, i in enumerate(sol.rows):
                 mult[rows[i].name][k] = sol.multipliers[j]
+            for name, cf in sol.contacts.items():
+                rec = contacts[name]
+                rec["normal"][k] = cf.N
+                rec["friction"][k] = cf.F
+                rec["slip"][k] = cf.U
+                rec["gap"][k] = cf.gap
+                rec["mode"].append(cf.state)
             obs = kernel.observables(solver.input(s.t, q[k], qd[k]))
             T[k], V[k] = obs["T"], obs["V"]
             T2 = 0.5 * qd[k] @ sol.M @ qd[k]
@@ -93,11 +104,10 @@ class Trajectory:
                 res_p = max(res_p, float(np.max(np.abs(obs["pos"][pos]))))
             if vel:
                 res_v = max(res_v, float(np.max(np.abs(obs["vel"][vel]))))
-        works = Y[:, 2 * n:2 * n + 3] if Y.shape[1] > 2 * n else np.zeros((N, 3))
-        W_nc, W_R, W_t = works[:, 0], works[:, 1], works[:, 2]
-        W_f = np.zeros(N)
+        works = Y[:, 2 * n:2 * n + 4] if Y.shape[1] > 2 * n else np.zeros((N, 4))
+        W_nc, W_R, W_t, W_f = works[:, 0], works[:, 1], works[:, 2], works[:, 3]
         balance = (E - E[0]) - (W_nc + W_R + W_t + W_f) if N else np.zeros(0)
-        scale = max(1e-300, float(np.max(np.abs(np.concatenate((E, T, V, W_nc, W_R, W_t))))) if N else 1.0)
+        scale = max(1e-300, float(np.max(np.abs(np.concatenate((E, T, V, W_nc, W_R, W_t, W_f)))))) if N else 1.0
         energy = {
             "kinetic": T, "potential": V, "energy": E, "active_work": W_nc,
             "reaction_work": W_R, "friction_work": W_f, "explicit_time_work": W_t,
@@ -112,8 +122,11 @@ class Trajectory:
             energy_balance_relative=float(np.max(np.abs(balance)) / scale) if N else 0.0,
             samples=N,
         )
+        for rec in contacts.values():
+            rec["friction"] = rec["friction"].tolist()
+            rec["slip"] = rec["slip"].tolist()
         return cls(kernel.model.name, tuple(kernel.model.coordinates), t, q, qd, qdd,
-                   [s.mode.label() for s in samples], mult, energy, list(events), diag)
+                   [s.mode.label() for s in samples], mult, energy, list(events), diag, contacts)
 
     # ---------------------------------------------------------------- access
     def __len__(self) -> int:
@@ -143,7 +156,7 @@ class Trajectory:
             "qdot": {c: arr(self.qd[:, i]) for i, c in enumerate(self.coordinates)},
             "qddot": {c: arr(self.qdd[:, i]) for i, c in enumerate(self.coordinates)},
             "multipliers": {k: arr(v) for k, v in self.multipliers.items()},
-            "contacts": {name: {key: (val if isinstance(val, list) else arr(val))
+            "contacts": {name: {key: (_jsonable(val) if isinstance(val, list) else arr(val))
                                 for key, val in c.items()} for name, c in self.contacts.items()},
             "modes": list(self.modes),
             "events": [_jsonable(e) for e in self.events],

@@ -1,0 +1,69 @@
+"""Compiled contact quantities: gaps, normal rows, slip velocities and their Jacobians.
+
+For every contact ``c`` (in model order) the callable returns ``gap[c]``, ``gap_rate[c]``,
+``Gn[c]`` (``dg/dq``), ``gamma_n[c]`` (``g'' = Gn q'' + gamma_n``), ``mu[c]``, ``mu_s[c]``;
+and for every slip component ``r`` (contacts' components concatenated; ``offsets[c]`` is the
+first of contact ``c``) ``U[r]``, ``W[r]`` (``dU/dq'``), ``gamma_U[r]`` (``U' = W q'' + gamma_U``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .dynamics import dynamics_of
+from .model import Model
+from .numeric import Compiled
+
+__all__ = ["ContactKernel", "contact_kernel_of"]
+
+
+class ContactKernel:
+    def __init__(self, model: Model):
+        dyn = dynamics_of(model)
+        self.model = model
+        self.data = dyn.contacts
+        self.names = [c.name for c in self.data]
+        self.index = {c.name: i for i, c in enumerate(self.data)}
+        self.dims = [len(c.U) for c in self.data]
+        self.offsets = list(np.cumsum([0] + self.dims[:-1])) if self.data else []
+        self.n = dyn.n
+        symbols = [dyn.t] + dyn.q + dyn.qd + dyn.params
+        if not self.data:
+            self.fn = None
+            return
+        outputs = {
+            "gap": [c.gap for c in self.data],
+            "gap_rate": [c.gap_rate for c in self.data],
+            "Gn": [list(c.Gn) for c in self.data],
+            "gamma_n": [c.gamma_n for c in self.data],
+            "mu": [c.mu for c in self.data],
+            "mu_s": [c.mu_s for c in self.data],
+            "U": [u for c in self.data for u in c.U],
+            "W": [list(w) for c in self.data for w in c.W],
+            "gamma_U": [g for c in self.data for g in c.gamma_U],
+        }
+        self.fn = Compiled(symbols, outputs)
+
+    def __bool__(self) -> bool:
+        return bool(self.data)
+
+    def __call__(self, x: np.ndarray) -> dict:
+        return self.fn(x)
+
+    def slip(self, out: dict, c: int) -> np.ndarray:
+        o = self.offsets[c]
+        return out["U"][o:o + self.dims[c]]
+
+
+_CACHE: dict[int, tuple[Model, ContactKernel]] = {}
+
+
+def contact_kernel_of(model: Model) -> ContactKernel:
+    hit = _CACHE.get(id(model))
+    if hit is not None and hit[0] is model:
+        return hit[1]
+    k = ContactKernel(model)
+    if len(_CACHE) > 32:
+        _CACHE.clear()
+    _CACHE[id(model)] = (model, k)
+    return k
