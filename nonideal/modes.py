@@ -367,10 +367,17 @@ class ModeSolver:
         eliminates the ideal ones; :meth:`solve` recovers them).  ``out``/``cout`` are views
         into reused buffers, valid until the next call.
         """
+        layout = self.layout(mode)
+        if self.form == "gauss":
+            from .gauss import gauss_accelerations
+
+            qdd = gauss_accelerations(self, t, q, qd, mode).qdd
+            x = self.input(t, q, qd)
+            self._last_direct = {}
+            return qdd, None, layout, self.kernel.dynamics(x), (self.ck(x) if self.ck else None)
         x = self.input(t, q, qd)
         out = self.kernel.dynamics(x)
         cout = self.ck(x) if self.ck else None
-        layout = self.layout(mode)
         M, F = out["M"], out["F"]
         try:
             if not layout:

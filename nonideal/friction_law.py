@@ -1,0 +1,148 @@
+"""The friction law of the system (seed 000, sections 1.1-1.3), derived symbolically.
+
+With the constraint rows ``G`` (the model's constraints and the normal rows of the touching
+contacts, all taken as ideal), Painleve's split of the reaction ``R = G^T lambda + R_tau``
+gives constraint forces ``lambda`` that do not depend on friction.  For a contact sliding with
+a fixed direction ``s`` (one slip component) the physical reaction is
+``R = G^T N + W^T F`` with Coulomb's ``F = -f s N_c``; projecting,
+
+    lambda = N + k F,       k = (G M^-1 G^T)^-1 G M^-1 W^T,
+
+so the normal force, the friction force and the seed's coefficient ``mu`` (the slip
+acceleration imparted by friction: ``mu = W M^-1 R_tau = F / m_eff``) follow from
+``lambda_c`` alone:
+
+    N_c = lambda_c / (1 - f s k_c),      F = -f s N_c,      mu = F / m_eff,
+    1/m_eff = W M^-1 W^T - W M^-1 G^T k.
+
+The denominator ``1 - f s k_c`` vanishing is Painleve's paradox.  ``mu`` in the seed is
+normalized this way: for Painleve's two points (1.13) ``mu = R_x / (m + m1 cos^2 theta)``,
+i.e. ``m_eff = m + m1 cos^2 theta``.
+
+Cost: this uses the symbolic inverse of ``M`` -- meant for textbook-sized systems.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from .dynamics import dynamics_of
+from .errors import FormNotApplicable, did_you_mean
+from .model import Model
+from .symbols import latex_names, to_sp
+
+__all__ = ["FrictionLaw", "friction_law"]
+
+
+@dataclass
+class FrictionLaw:
+    """Symbolic friction law of the system for one contact and slip direction."""
+
+    contact: str
+    direction: int
+    rows: list[str]
+    lambdas: list[sp.Symbol]
+    f: sp.Expr
+    N: sp.Expr
+    F: sp.Expr
+    mu: sp.Expr
+    effective_mass: sp.Expr
+    k: sp.Expr
+    denominator: sp.Expr
+    substitutions: dict = field(default_factory=dict)
+
+    def as_text(self) -> str:
+        lam = sp.Symbol(f"lambda_{self.contact}")
+        lines = [f"friction law of the system, contact '{self.contact}', slip direction "
+                 f"s = {self.direction:+d} (seed 000, (1.21)-(1.23), (1.81)-(1.82))",
+                 f"  constraint rows (lambda independent of friction): {', '.join(self.rows)}",
+                 f"  effective tangential mass m_eff = {sp.sstr(self.effective_mass)}",
+                 f"  coupling k = {sp.sstr(self.k)}     ({lam} = N + k F)",
+                 f"  N  = {sp.sstr(self.N)}",
+                 f"  F  = {sp.sstr(self.F)}",
+                 f"  mu = F/m_eff = {sp.sstr(self.mu)}",
+                 f"  Painleve: sliding is consistent only while {sp.sstr(self.denominator)} > 0"]
+        if self.substitutions:
+            lines.append("  with " + ", ".join(f"{k} = {v}" for k, v in self.substitutions.items()))
+        return "\n".join(lines)
+
+    def as_latex(self) -> str:
+        syms = set().union(*(e.free_symbols for e in (self.N, self.F, self.mu, self.effective_mass)))
+        names = latex_names(syms)
+        return (r"\begin{align*}" + "\n"
+                + r"m_{\mathrm{eff}} &= " + sp.latex(self.effective_mass, symbol_names=names) + r"\\" + "\n"
+                + r"N &= " + sp.latex(self.N, symbol_names=names) + r"\\" + "\n"
+                + r"\mu &= " + sp.latex(self.mu, symbol_names=names) + "\n" + r"\end{align*}")
+
+    def to_dict(self) -> dict:
+        return {"contact": self.contact, "direction": self.direction, "rows": self.rows,
+                "N": sp.sstr(self.N), "F": sp.sstr(self.F), "mu": sp.sstr(self.mu),
+                "effective_mass": sp.sstr(self.effective_mass), "k": sp.sstr(self.k),
+                "paradox_when_nonpositive": sp.sstr(self.denominator),
+                "latex": self.as_latex()}
+
+
+def _simplify(e: sp.Expr, substitutions) -> sp.Expr:
+    if substitutions:
+        e = e.subs(substitutions)
+    e = sp.together(e)
+    try:
+        return sp.factor(sp.trigsimp(e))
+    except Exception:  # pragma: no cover - simplification is cosmetic
+        return e
+
+
+def friction_law(model: Model, contact: str, direction: int = 1, constraints=None,
+                 substitutions: dict | None = None, simplify: bool = True) -> FrictionLaw:
+    """Derive the friction law of the system for *contact* sliding in *direction*.
+
+    Parameters
+    ----------
+    model : Model
+    contact : str
+        A contact with one slip component.
+    direction : {+1, -1}
+        Sign of the slip velocity.
+    constraints : list of str, optional
+        Constraint rows taken as active (default: every constraint of the model).
+    substitutions : mapping, optional
+        Expressions substituted for display, e.g. ``{x1: x + l*cos(theta)}``.
+    """
+    dyn = dynamics_of(model)
+    names = [c.name for c in model.contacts]
+    if contact not in names:
+        raise FormNotApplicable(f"friction law: no contact '{contact}'{did_you_mean(contact, names)}")
+    c = names.index(contact)
+    cd = dyn.contacts[c]
+    if len(cd.U) != 1:
+        raise FormNotApplicable(f"friction law: contact '{contact}' has {len(cd.U)} slip components; "
+                                "the scalar law is for one (the vector law follows with s = U/|U|)")
+    if direction not in (1, -1):
+        raise FormNotApplicable("friction law: direction must be +1 or -1")
+    rows = dyn.rows(constraints)
+    n = dyn.n
+    M = to_sp(dyn.M)
+    G = sp.Matrix([[to_sp(r.G[j]) for j in range(n)] for r in rows] + [[to_sp(x) for x in cd.Gn]])
+    W = sp.Matrix([[to_sp(x) for x in cd.W[0]]])
+    Minv = M.inv(method="LU")
+    Minv = Minv.applyfunc(lambda e: sp.trigsimp(sp.together(e)))
+    D = G * Minv * G.T
+    GMW = G * Minv * W.T
+    k = D.LUsolve(GMW)
+    kc = sp.trigsimp(sp.together(k[-1]))
+    inv_meff = (W * Minv * W.T)[0, 0] - (W * Minv * G.T * k)[0, 0]
+    meff = sp.trigsimp(sp.together(1 / inv_meff))
+    f = to_sp(cd.mu)
+    lam = sp.Symbol(f"lambda_{contact}")
+    den = 1 - f * direction * kc
+    N = lam / den
+    F = -f * direction * N
+    mu = F / meff
+    subs = substitutions or {}
+    if simplify:
+        N, F, mu, meff, kc, den = (_simplify(e, subs) for e in (N, F, mu, meff, kc, den))
+    return FrictionLaw(contact, direction, [r.name for r in rows] + [contact],
+                       [sp.Symbol(f"lambda_{r.name}") for r in rows] + [lam],
+                       f, N, F, mu, meff, kc, den, {str(k_): str(v) for k_, v in subs.items()})
