@@ -14,7 +14,7 @@ import numpy as np
 from .consistency import complete_state, random_admissible_states
 from .formalisms import FORMS
 from .model import Model
-from .modes import Mode, ModeSolver
+from .modes import SLIDE, STICK, ContactState, Mode, ModeSolver
 from .numeric import kernel_of, parameter_vector
 
 __all__ = ["compare_forms", "CrossCheck"]
@@ -38,9 +38,28 @@ def _rel(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.max(np.abs(a - b)) / max(np.max(np.abs(b)), 1e-300))
 
 
+def _contact_mode(solver: ModeSolver, t, q, qd, held, contact_state: str) -> Mode:
+    if not solver.ck:
+        return Mode(held)
+    cout = solver.ck(solver.input(t, q, qd))
+    states = []
+    for c, name in enumerate(solver.ck.names):
+        if contact_state == "stick":
+            states.append((name, ContactState(STICK)))
+            continue
+        U = solver.ck.slip(cout, c)
+        direction = (float(np.sign(U[0])) or 1.0,) if len(U) == 1 else tuple(U / np.linalg.norm(U))
+        states.append((name, ContactState(SLIDE, direction)))
+    return Mode(held, tuple(states))
+
+
 def compare_forms(model: Model, forms=None, count: int = 20, seed: int = 0,
-                  spread: float = 0.3) -> CrossCheck:
-    """Evaluate *forms* (default: all) at *count* random admissible states.
+                  spread: float = 0.3, contact_state: str = "slide") -> CrossCheck:
+    """Evaluate *forms* (default: all, and the numerical Gauss solver) at *count* random
+    admissible states.
+
+    Contacts are taken as touching (their gaps closed) and, by *contact_state*, either
+    sliding along the current slip (``"slide"``) or sticking (``"stick"``).
 
     Returns
     -------
@@ -50,20 +69,22 @@ def compare_forms(model: Model, forms=None, count: int = 20, seed: int = 0,
         constraints a form keeps in its equations (the others it recovers from Lagrange I's
         residual, which would make the comparison empty).
     """
-    forms = list(forms or FORMS)
+    forms = list(forms or (list(FORMS) + ["gauss"]))
     kernel = kernel_of(model)
     params = parameter_vector(model)
     q0, qd0, _ = complete_state(kernel, model.numeric_initial(), params, model.t0)
+    n_rows = len(kernel.rows) + len(model.contacts)
     states = random_admissible_states(kernel, q0, qd0, params, count, seed=seed, spread=spread,
-                                      t0=model.t0)
-    held = Mode(frozenset(r.name for r in kernel.rows if r.unilateral))
+                                      t0=model.t0, rows=list(range(n_rows)))
+    held = frozenset(r.name for r in kernel.rows if r.unilateral)
     ref = ModeSolver(kernel, params, "lagrange1")
     solvers = {f: ModeSolver(kernel, params, f, model.independent) for f in forms if f != "lagrange1"}
     report = CrossCheck(len(states), {f: 0.0 for f in solvers}, {f: 0.0 for f in solvers})
     for t, q, qd in states:
-        r = ref.solve(t, q, qd, held)
+        mode = _contact_mode(ref, t, q, qd, held, contact_state)
+        r = ref.solve(t, q, qd, mode)
         for f, s in solvers.items():
-            sol = s.solve(t, q, qd, held)
+            sol = s.solve(t, q, qd, mode)
             report.accelerations[f] = max(report.accelerations[f], _rel(sol.qdd, r.qdd))
             keys = [k for k in sol.direct if k in r.direct]
             if keys:

@@ -68,7 +68,15 @@ class Evaluation:
                          f"{n}'' = {self.qdd[i]: .10g}")
         for name, value in self.multipliers.items():
             r = self.reactions[name]
-            lines.append(f"  lambda_{name} = {value: .10g}")
+            if name in self.contacts:
+                c = self.contacts[name]
+                lines.append(f"  contact {name}: {c['mode']}, N = {c['normal']: .10g}, "
+                             f"F = {_fmt(c['friction'])}, slip = {_fmt(c['slip'])}, gap = {c['gap']:.3g}")
+                if "margin" in c:
+                    lines.append(f"    sticking: friction needed {c['friction_needed']:.8g} of "
+                                 f"mu_s N = {c['friction_available']:.8g} (margin {c['margin']:.6g})")
+            else:
+                lines.append(f"  lambda_{name} = {value: .10g}")
             lines.append(f"    reaction (generalized) = {_fmt(r['generalized'])}")
             if self.split_available:
                 lines.append(f"    constraint part        = {_fmt(r['constraint_part'])}")

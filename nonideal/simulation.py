@@ -269,7 +269,7 @@ class Simulation:
         return q, qd
 
     def run(self, t_end: float | None = None, times: Sequence[float] | None = None,
-            initial: Mapping[str, float] | None = None) -> Trajectory:
+            initial: Mapping[str, float] | None = None, stop_on=None) -> Trajectory:
         """Simulate from the model's initial state to ``t_end``.
 
         Parameters
@@ -281,6 +281,9 @@ class Simulation:
             every event.
         initial : mapping, optional
             Overrides of initial values.
+        stop_on : set of str, optional
+            Event kinds (``"slip"``, ``"lift-off"``, ``"release"``...) that end the run at the
+            event (the last sample is the state at the event, before the switch).
 
         Returns
         -------
@@ -322,6 +325,7 @@ class Simulation:
             next_time = 1 if times is not None else 0
         t = t0
         h = None
+        stopped = False
         projections = 0
         residual_max = {"position": 0.0, "velocity": 0.0}
         Solver = SOLVERS[self.method]
@@ -372,6 +376,17 @@ class Simulation:
                     next_time = self._sample_dense(dense, t_old, te, times, next_time, mode, emit,
                                                    include_end=times is None)
                     ye = dense(te)
+                    if stop_on and events[k].kind in stop_on:
+                        if times is not None:
+                            emit(te, ye, mode)
+                        record = events[k].record(te)
+                        record["mode"] = mode.label()
+                        record["stopped"] = True
+                        events_log.append(record)
+                        t, y = te, ye
+                        times = None
+                        stopped = True
+                        break
                     y, new_mode, record = self._switch(te, ye, mode, events[k])
                     events_log.append(record)
                     if len(events_log) > self.max_events:
@@ -420,7 +435,7 @@ class Simulation:
                 t, y = t_new, ode.y
                 if ode.status == "finished":
                     break
-            if not restart and ode.status == "finished":
+            if stopped or (not restart and ode.status == "finished"):
                 break
         if times is not None:
             while next_time < times.size and times[next_time] <= t + 1e-12 * max(1, abs(t)):

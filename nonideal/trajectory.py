@@ -80,7 +80,7 @@ class Trajectory:
         res_p = res_v = 0.0
         ck = solver.ck
         contacts = {name: {"normal": np.zeros(N), "friction": np.zeros((N, d)), "slip": np.zeros((N, d)),
-                           "gap": np.zeros(N), "mode": []}
+                           "gap": np.zeros(N), "mu_static": np.zeros(N), "mode": []}
                     for name, d in zip(ck.names, ck.dims)} if ck else {}
         for k, s in enumerate(samples):
             sol = solver.solve(s.t, q[k], qd[k], s.mode)
@@ -93,6 +93,7 @@ class Trajectory:
                 rec["friction"][k] = cf.F
                 rec["slip"][k] = cf.U
                 rec["gap"][k] = cf.gap
+                rec["mu_static"][k] = cf.mu_s
                 rec["mode"].append(cf.state)
             obs = kernel.observables(solver.input(s.t, q[k], qd[k]))
             T[k], V[k] = obs["T"], obs["V"]
