@@ -145,9 +145,13 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     Returns
     -------
     Evaluation
-        ``reactions[name]`` holds, for every constraint and contact, the generalized reaction
-        and its Painleve split into the constraint part ``G^T lambda`` (which does not depend on
-        friction) and the friction part (``M V mu``: it accelerates along possible velocities).
+        ``reactions[name]`` holds, for every constraint and contact, its physical generalized
+        reaction ``R_j``, the constraint part ``G_j^T lambda_j`` of Painleve's split (which does
+        not depend on friction) and the friction part ``P R_j`` (zero for an ideal constraint;
+        ``M V mu`` in the seed's notation: it accelerates along possible velocities only).
+        The parts of all rows add up to the total reaction; a single row's parts need not add
+        up to its own physical reaction, because friction at a contact changes how the other
+        constraints' physical reactions are distributed (seed 000, (1.14)-(1.17)).
     """
     from .switching import select_mode
 
@@ -187,12 +191,15 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
         lam = sol.multiplier(r_i) if active else 0.0
         multipliers[name] = float(lam)
         generalized = sol.B[:, r_i] * lam if active else np.zeros(n)
-        constraint_part = sol.G[r_i] * lam_split[name] if (split is not None and active) else generalized
+        if split is not None and active:
+            constraint_part = sol.G[r_i] * lam_split[name]
+            friction_part = P @ generalized
+        else:
+            constraint_part, friction_part = generalized, np.zeros(n)
         reactions[name] = {
             "generalized": [float(v) for v in generalized],
             "constraint_part": [float(v) for v in constraint_part],
-            "friction_part": [float(v) for v in (generalized - constraint_part)] if split is not None
-            else [0.0] * n,
+            "friction_part": [float(v) for v in friction_part],
             "active": bool(active),
         }
     ck = solver.ck
@@ -207,7 +214,7 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
         generalized = normal_force + friction_force
         if split is not None and name in lam_split:
             constraint_part = Gn * lam_split[name]
-            friction_part = P @ friction_force
+            friction_part = P @ generalized
         else:
             constraint_part, friction_part = normal_force, friction_force
         reactions[name] = {
