@@ -153,7 +153,7 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
         up to its own physical reaction, because friction at a contact changes how the other
         constraints' physical reactions are distributed (seed 000, (1.14)-(1.17)).
     """
-    from .switching import select_mode
+    from .switching import select_mode, validate_contacts
 
     kernel = kernel_of(model)
     params = parameter_vector(model, parameters)
@@ -163,6 +163,7 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
         given.update(at)
     q, qd, _ = complete_state(kernel, given, params, t)
     solver = ModeSolver(kernel, params, form, independent)
+    validate_contacts(solver, t, q, qd)
     mode = select_mode(solver, t, q, qd)
     sol = solver.solve(t, q, qd, mode)
     return _report(model, form, t, q, qd, mode, sol, solver)

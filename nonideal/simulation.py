@@ -33,7 +33,7 @@ from .events import (ContactTouch, Event, EventContext, Jam, Lift, Release, Slip
 from .model import Model
 from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, ModeSolver
 from .numeric import kernel_of, parameter_vector
-from .switching import effective_compliance, impact, select_mode
+from .switching import effective_compliance, impact, select_mode, validate_contacts
 from .trajectory import Sample, Trajectory
 
 __all__ = ["simulate", "Simulation"]
@@ -310,6 +310,7 @@ class Simulation:
             t_end = float(times[-1])
         n = self.n
         q0, qd0 = self.initial_state(initial)
+        validate_contacts(self.solver, t0, q0, qd0)
         mode = select_mode(self.solver, t0, q0, qd0)
         q0, qd0 = self._project(mode, t0, q0, qd0)
         y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))

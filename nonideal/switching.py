@@ -434,3 +434,50 @@ def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting=
                     return qd_plus, impulses
     raise MechanicsError("no consistent impact: every impulse set pulls or lets a contact "
                          "penetrate", t, dict(zip(solver.model.coordinates, q)))
+
+
+def validate_contacts(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray) -> None:
+    """Checks of the contacts at a state that the model file cannot express.
+
+    Raises
+    ------
+    ModelError
+        A negative friction coefficient (when it depends on the state), or friction declared on
+        a direction the constraints already fix (the slip velocity has no freedom: its Jacobian
+        lies in the span of the constraint and gap Jacobians).
+    """
+    from .errors import ModelError
+
+    ck = solver.ck
+    if not ck:
+        return
+    x = solver.input(t, q, qd)
+    cout = {k: np.array(v) if isinstance(v, np.ndarray) else v for k, v in ck(x).items()}
+    out = solver.kernel.dynamics(x)
+    src = None if solver.model.source == "<api>" else solver.model.source
+    problems = []
+    G_con = out["G"][solver.bilateral] if solver.kernel.m and solver.bilateral else np.zeros((0, solver.n))
+    for c, data in enumerate(ck.data):
+        name = data.name
+        if cout["mu"][c] < 0 or cout["mu_s"][c] < 0:
+            problems.append(f"contact '{name}': friction coefficient is negative at the initial state "
+                            f"(mu = {cout['mu'][c]:.6g}, mu_static = {cout['mu_s'][c]:.6g}); it must be >= 0")
+        if cout["mu_s"][c] < cout["mu"][c] - 1e-12:
+            problems.append(f"contact '{name}': mu_static = {cout['mu_s'][c]:.6g} is smaller than the "
+                            f"kinetic mu = {cout['mu'][c]:.6g}; Coulomb's law needs mu_static >= mu")
+        o, d = ck.offsets[c], ck.dims[c]
+        base = np.vstack([G_con, cout["Gn"][c][None, :]])
+        W = cout["W"][o:o + d]
+        r0 = np.linalg.matrix_rank(base)
+        r1 = np.linalg.matrix_rank(np.vstack([base, W]))
+        if r1 < r0 + d:
+            problems.append(
+                f"contact '{name}': friction on a direction with no tangential freedom -- the slip "
+                "velocity's gradient lies in the span of the constraints and the normal; the "
+                "constraints already fix that motion, so no friction force can be identified. "
+                "Remove the constraint that fixes it or the friction on this contact")
+        if np.linalg.norm(cout["Gn"][c]) < 1e-14:
+            problems.append(f"contact '{name}': the gap has zero gradient at the initial state, so no "
+                            "normal force can be identified; write the gap as the normal distance")
+    if problems:
+        raise ModelError(problems, src)
