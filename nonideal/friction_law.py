@@ -146,3 +146,24 @@ def friction_law(model: Model, contact: str, direction: int = 1, constraints=Non
     return FrictionLaw(contact, direction, [r.name for r in rows] + [contact],
                        [sp.Symbol(f"lambda_{r.name}") for r in rows] + [lam],
                        f, N, F, mu, meff, kc, den, {str(k_): str(v) for k_, v in subs.items()})
+
+
+def painleve_model(model: Model, contacts=None) -> tuple[Model, list[str]]:
+    """The model in the seed's representation of friction (seed 000 (1.52), (2.7)-(2.8)).
+
+    Every touching contact (default: all) becomes an ideal bilateral constraint ``gap = 0``
+    (its multiplier is the constraint force ``lambda``, independent of friction), and the
+    friction force of the system enters as the generalized force ``M V mu`` -- ``V`` the basis
+    of the possible velocities, ``mu_j`` one coefficient per independent velocity (parameters
+    of value 0 in the returned model; the friction law of the system expresses them through
+    ``lambda``).  Deriving this model in any form gives the seed's equations with friction:
+    Lagrange I (1.53)/(2.8), Lagrange II (1.56), Shulgin (1.64), Appell (1.65).
+
+    Returns
+    -------
+    model : Model
+    mu_names : list of str
+    """
+    from .constraints_util import contact_gap_constraints
+
+    return contact_gap_constraints(model, contacts)
