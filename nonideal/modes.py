@@ -445,6 +445,22 @@ class ModeSolver:
         return Solution(qdd, rows, mults, layout, values, M, F, G, gamma, B, Gm, gm, Bm,
                         contacts, friction, direct)
 
+    def friction_force(self, mode: Mode, layout: list[RowSpec], values: np.ndarray, cout) -> np.ndarray:
+        """Generalized friction force ``sum_c W_c^T F_c`` from the multipliers of the mode's rows
+        (fast path for the right-hand side; no copies)."""
+        Q = np.zeros(self.n)
+        for j, r in enumerate(layout):
+            if r.kind == "tangent":
+                Q += values[j] * cout["W"][self.ck.offsets[r.index] + r.k]
+            elif r.kind == "normal":
+                c = r.index
+                cs = mode.contacts[c][1]
+                if cs.state in (SLIDE, SMOOTH):
+                    o, d = self.ck.offsets[c], self.ck.dims[c]
+                    s = self.friction_shape(c, cs, cout["U"][o:o + d])
+                    Q -= cs.sigma * cout["mu"][c] * values[j] * (s @ cout["W"][o:o + d])
+        return Q
+
     def _contact_forces(self, mode, layout, values, cout, qdd):
         friction = np.zeros(self.n)
         contacts = {}

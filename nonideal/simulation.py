@@ -103,10 +103,13 @@ class Simulation:
             dy = np.empty_like(y)
             dy[:n] = qd
             if friction:
-                sol = solver.solve(t, q, qd, mode)
-                qdd = sol.qdd
-                P_f = sol.friction @ qd
-                R = sol.M @ qdd - sol.F
+                qdd, values, layout, out, cout = solver.accelerations(t, q, qd, mode)
+                if values is None:  # a reduced form: recover the multipliers
+                    sol = solver.solve(t, q, qd, mode)
+                    qdd, P_f, R = sol.qdd, sol.friction @ qd, sol.M @ sol.qdd - sol.F
+                else:
+                    P_f = solver.friction_force(mode, layout, values, cout) @ qd
+                    R = out["M"] @ qdd - out["F"]
             else:
                 qdd, values, layout, out, cout = solver.accelerations(t, q, qd, mode)
                 P_f = 0.0

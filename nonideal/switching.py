@@ -188,30 +188,42 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
     if total > MAX_COMBINATIONS:
         raise MechanicsError(f"too many simultaneous contact states to enumerate ({total})", t)
     consistent = []
-    for held in held_sets:
-        for combo in (itertools.product(*copts) if copts else [()]):
-            modes = [Mode(held, tuple(zip(solver.ck.names, combo)))]
-            for c, cs in enumerate(combo):
-                if cs.state == SLIDE and cs.direction == ("onset",):
-                    expanded = []
-                    for m in modes:
-                        probe = m.with_contact(solver.ck.names[c], ContactState(SLIDE, (1.0, 0.0), cs.sigma))
-                        for s in _onset_directions(solver, t, q, qd, probe, c):
-                            expanded.append(m.with_contact(solver.ck.names[c], ContactState(SLIDE, s, cs.sigma)))
-                    modes = expanded
-            for mode in modes:
-                try:
-                    sol = solver.solve(t, q, qd, mode)
-                except (SingularSystem, MechanicsError):
+    candidates = [(held, combo) for held in held_sets
+                  for combo in (itertools.product(*copts) if copts else [()])]
+    # static friction is preferred: try the combinations that stick the most first and stop
+    # after the first level of stickiness with a consistent choice (sliding onsets, which need a
+    # direction search, are then never explored)
+    candidates.sort(key=lambda hc: -sum(1 for cs in hc[1] if cs.state == STICK))
+    level = None
+    fallback = None
+    for held, combo in candidates:
+        sticks = sum(1 for cs in combo if cs.state == STICK)
+        if level is not None and sticks < level:
+            break
+        modes = [Mode(held, tuple(zip(solver.ck.names, combo)))]
+        for c, cs in enumerate(combo):
+            if cs.state == SLIDE and cs.direction == ("onset",):
+                expanded = []
+                for m in modes:
+                    probe = m.with_contact(solver.ck.names[c], ContactState(SLIDE, (1.0, 0.0), cs.sigma))
+                    for s in _onset_directions(solver, t, q, qd, probe, c):
+                        expanded.append(m.with_contact(solver.ck.names[c], ContactState(SLIDE, s, cs.sigma)))
+                modes = expanded
+        for mode in modes:
+            try:
+                sol = solver.solve(t, q, qd, mode)
+            except (SingularSystem, MechanicsError):
+                continue
+            if not np.all(np.isfinite(sol.qdd)):
+                continue
+            if _consistent(solver, sol, mode, closed, t, q, qd):
+                if exclude is not None and _same(mode, exclude):
+                    fallback = (mode, sol)
                     continue
-                if not np.all(np.isfinite(sol.qdd)):
-                    continue
-                if _consistent(solver, sol, mode, closed, t, q, qd):
-                    consistent.append((mode, sol))
-    if exclude is not None:
-        others = [(m, sol) for m, sol in consistent if not _same(m, exclude)]
-        if others:
-            consistent = others
+                consistent.append((mode, sol))
+                level = sticks if level is None else level
+    if not consistent and fallback is not None:
+        consistent = [fallback]
     state = dict(zip(solver.model.coordinates, q))
     state.update({c + "'": v for c, v in zip(solver.model.coordinates, qd)})
     if not consistent:
