@@ -1,0 +1,7 @@
+"""``python -m nonideal`` is the ``nonideal`` command."""
+
+import sys
+
+from .cli import main
+
+sys.exit(main())
