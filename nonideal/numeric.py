@@ -10,7 +10,11 @@ is solved numerically at each evaluation with LAPACK (Cholesky when there are no
 LU otherwise); nothing is inverted symbolically, so operating points where a symbolic LU
 would have a removable singularity are harmless.
 
-* :class:`Compiled` -- one Lambdify over named outputs (scalars, vectors, matrices).
+* :class:`Compiled` -- one Lambdify over named outputs (scalars, vectors, matrices).  With
+  the LLVM backend it compiles first without optimization (4-5x faster to build, ~1.2-2x
+  slower to evaluate) and recompiles with full optimization after :data:`TIER_UP_CALLS`
+  evaluations, when the faster evaluation has paid for it; both give bit-identical results
+  (no fast-math).
 * :class:`Kernel` -- the model-level functions (``M, F`` and every constraint row; energies,
   residuals) shared by the simulation, the reactions and the checks.
 * :class:`FormSystem` -- the compiled equations of one :class:`~nonideal.eom.EquationsOfMotion`.
@@ -18,6 +22,7 @@ would have a removable singularity are harmless.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -48,6 +53,26 @@ def _flatten(value):
     return [value], ()
 
 
+TIER_UP_CALLS = 100_000
+"""Evaluations after which a :class:`Compiled` is recompiled with full LLVM optimization.
+
+Measured on the benchmark systems (``benchmarks/RESULTS.md``): full optimization costs
+30-250 ms more to build for 100-1000 outputs and saves 0.2-2 us per evaluation, so it pays
+off after roughly 10^5 evaluations -- far more than a typical simulation needs."""
+
+_LLVM = bool(getattr(se, "have_llvm", False))
+
+
+def _lambdify(inputs, exprs, optimize: bool):
+    """SymEngine Lambdify with CSE; LLVM without optimization unless *optimize*."""
+    if _LLVM and not optimize:
+        try:
+            return se.Lambdify(inputs, exprs, cse=True, backend="llvm", opt_level=0)
+        except (TypeError, ValueError, RuntimeError):  # pragma: no cover - older SymEngine
+            pass
+    return se.Lambdify(inputs, exprs, cse=True)
+
+
 class Compiled:
     """A single Lambdify over named outputs.
 
@@ -55,12 +80,15 @@ class Compiled:
     ----------
     inputs : list of se.Symbol
     outputs : mapping name -> expression, list, nested list or se.DenseMatrix
+    optimize : bool, optional
+        Compile with full optimization at once (default: only after
+        :data:`TIER_UP_CALLS` evaluations, see the module docstring).
 
     Calling it with a flat float array returns a dict of NumPy views: scalars as 0-d values,
     vectors with shape (n,), matrices with shape (rows, cols).
     """
 
-    def __init__(self, inputs: Sequence, outputs: Mapping[str, object]):
+    def __init__(self, inputs: Sequence, outputs: Mapping[str, object], optimize: bool = False):
         self.inputs = list(inputs)
         self.slices: dict[str, tuple[slice, tuple]] = {}
         flat: list = []
@@ -69,27 +97,37 @@ class Compiled:
             self.slices[name] = (slice(len(flat), len(flat) + len(items)), shape)
             flat.extend(items)
         self.size = len(flat)
-        if flat:
-            self.fn = se.Lambdify(self.inputs, [se.sympify(x) for x in flat], cse=True)
-        else:
-            self.fn = None
+        self._exprs = [se.sympify(x) for x in flat]
+        # tiering only matters for the LLVM backend
+        self._calls = 0 if (_LLVM and not optimize) else -1
+        self.fn = _lambdify(self.inputs, self._exprs, optimize or not _LLVM) if flat else None
+        if self.fn is None:
+            self._calls = -1
         self.out = np.zeros(self.size)
         self._views = {name: self.out[sl].reshape(shape) if shape else None
                        for name, (sl, shape) in self.slices.items()}
+        self._scalars = [(name, sl.start) for name, (sl, shape) in self.slices.items() if not shape]
+
+    def _tier_up(self) -> None:
+        self.fn = _lambdify(self.inputs, self._exprs, True)
+        self._calls = -1
 
     def raw(self, x: np.ndarray) -> np.ndarray:
         """The flat output array (reused buffer: copy it to keep it)."""
         if self.fn is not None:
             self.fn.unsafe_real(x, self.out)
+            if self._calls >= 0:
+                self._calls += 1
+                if self._calls >= TIER_UP_CALLS:
+                    self._tier_up()
         return self.out
 
     def __call__(self, x: np.ndarray) -> dict[str, np.ndarray]:
         """Evaluate; returns views into a reused buffer (valid until the next call)."""
         flat = self.raw(x)
-        out = dict(self._views)
-        for name, (sl, shape) in self.slices.items():
-            if not shape:
-                out[name] = float(flat[sl.start])
+        out = self._views.copy()
+        for name, i in self._scalars:
+            out[name] = float(flat[i])
         return out
 
     def view(self, flat: np.ndarray, name: str) -> np.ndarray:
@@ -98,9 +136,16 @@ class Compiled:
         return v.reshape(shape) if shape else v[0]
 
 
+_dposv, _dgesv = lapack.dposv, lapack.dgesv
+
+
 def solve_saddle(A: np.ndarray, b: np.ndarray, B: np.ndarray | None = None,
                  G: np.ndarray | None = None, gamma: np.ndarray | None = None):
     """Solve ``A a - B mu = b``, ``G a = -gamma`` for ``(a, mu)``.
+
+    Without rows: Cholesky (LAPACK ``dposv``), LU if ``A`` is not positive definite.  With
+    rows: LU of the saddle-point matrix ``[[A, B], [G, 0]]`` for ``(a, -mu)`` (``dgesv``,
+    in place on a Fortran-ordered work array).  Returns fresh arrays.
 
     Raises
     ------
@@ -109,24 +154,31 @@ def solve_saddle(A: np.ndarray, b: np.ndarray, B: np.ndarray | None = None,
     """
     k = A.shape[0]
     if G is None or G.shape[0] == 0:
-        _, x, info = lapack.dposv(A, b)
+        _, x, info = _dposv(A, b)
         if info == 0:
-            return x, np.zeros(0)
-        _, _, x, info = lapack.dgesv(A, b)
+            return x, np.empty(0)
+        _, _, x, info = _dgesv(A, b)
         if info != 0:
             raise SingularMatrix("mass matrix")
-        return x, np.zeros(0)
+        return x, np.empty(0)
     m = G.shape[0]
-    K = np.zeros((k + m, k + m))
+    s = k + m
+    # [[A, B], [G, 0]] [a; -mu] = [b; -gamma]: B enters unnegated (one operation less)
+    K = np.zeros((s, s), order="F")
     K[:k, :k] = A
-    K[:k, k:] = -B
+    K[:k, k:] = B
     K[k:, :k] = G
-    rhs = np.concatenate((b, -gamma))
-    _, _, x, info = lapack.dgesv(K, rhs)
-    if info != 0 or not np.all(np.isfinite(x)):
+    rhs = np.empty(s)
+    rhs[:k] = b
+    np.negative(gamma, out=rhs[k:])
+    _, _, x, info = _dgesv(K, rhs, overwrite_a=1, overwrite_b=1)
+    # x . x is finite iff every entry is (barring overflow, which the exact check catches)
+    if info != 0 or not (math.isfinite(x @ x) or np.all(np.isfinite(x))):
         raise SingularMatrix("saddle-point system")
     # a badly conditioned system is as bad as a singular one for the user
-    return x[:k], x[k:]
+    mu = x[k:]
+    np.negative(mu, out=mu)
+    return x[:k], mu
 
 
 @dataclass
@@ -262,6 +314,7 @@ class FormSystem:
             self.aux_shapes.append(aux.symbols.shape)
             aux_syms.extend(list(aux.symbols))
         self.stage1 = Compiled(base, stage1) if stage1 else None
+        self.aux_names = [(f"K{i}", f"Y{i}") for i in range(len(eom.auxiliaries))]
         b = eom.Qf_ - eom.c_
         outputs = {"A": eom.A_, "b": list(b), "R": eom.R_, "r": list(eom.r_)}
         self.m = len(eom.multipliers)
@@ -277,12 +330,11 @@ class FormSystem:
         if self.stage1 is not None:
             s1 = self.stage1(x_base)
             off = self.n_base
-            for i, shape in enumerate(self.aux_shapes):
-                K, Y = s1[f"K{i}"], s1[f"Y{i}"]
-                try:
-                    X = np.linalg.solve(K, Y)
-                except np.linalg.LinAlgError:
-                    raise SingularMatrix("dependent-velocity block") from None
+            for kname, yname in self.aux_names:
+                # LAPACK directly: np.linalg.solve costs ~4 us more per call on small blocks
+                _, _, X, info = _dgesv(s1[kname], s1[yname])
+                if info != 0:
+                    raise SingularMatrix("dependent-velocity block")
                 x[off:off + X.size] = X.ravel()
                 off += X.size
         out = self.main(x)
