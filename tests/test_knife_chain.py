@@ -60,15 +60,20 @@ def test_reduced_forms_stay_polynomial_in_size():
     # the explicit inverse of the dependent block doubles per link; the reduced forms must
     # switch to auxiliary symbols before that: compiled size grows at most ~ n^3
     from nonideal.dynamics import count_ops
+    from nonideal.errors import FormNotApplicable
 
     sizes = {}
     for n in (4, 8):
         model = build(n)
         for f in FORMS:
-            eom = derive(model, f)
+            try:
+                eom = derive(model, f)
+            except FormNotApplicable:  # e.g. a form for holonomic systems only
+                continue
             exprs = list(eom.A_) + list(eom.Qf_ - eom.c_) + list(eom.R_) + list(eom.r_)
             for aux in eom.auxiliaries:
                 exprs += list(aux.K) + list(aux.Y)
             sizes[f, n] = count_ops(exprs)
     for f in FORMS:
-        assert sizes[f, 8] < 2 ** 3 * 2 * sizes[f, 4], (f, sizes[f, 4], sizes[f, 8])
+        if (f, 8) in sizes:
+            assert sizes[f, 8] < 2 ** 3 * 2 * sizes[f, 4], (f, sizes[f, 4], sizes[f, 8])
