@@ -58,7 +58,7 @@ from ..model import Constraint, Model
 
 NAME = "appell-ladder"
 ORDER = 40
-TITLE = "Appell's ladder on a smooth wall and floor: leaves the wall at cos(alpha) = (2/3) cos(alpha0) (seed 000, sec. 1.3 problem 2)"
+TITLE = "Appell's ladder, smooth wall and floor: leaves the wall at cos(alpha) = (2/3) cos(alpha0) (seed 000, sec. 1.3)"
 FILE = "appell_ladder.toml"
 
 CONTACTS = {"wall": "x - l*sin(alpha)", "floor": "y - l*cos(alpha)", "top_on_floor": "y + l*cos(alpha)"}

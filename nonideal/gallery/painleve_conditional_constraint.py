@@ -63,6 +63,11 @@ Misprints found in sec. 1.3, problem 1:
   ``R'_1y = -lambda_1 sin(theta) - lambda_2 cos(theta)``, ``R'_2y = lambda_1 cos(theta) + ...``
   disagree with (1.83), which is right (``R'_1 = (-lambda_1 c - lambda_2 s, lambda - lambda_1 s
   + lambda_2 c)``, ``R'_2 = (lambda_1 c - lambda_2 s, lambda_1 s + lambda_2 c)``).
+* friction terms (not exercised here, f = 0): the generalized friction force is that of the
+  total friction R_tau = (m1 + m2) mu acting at M1 (the friction components on M1 and M2 of
+  (1.79)-(1.80) do the work (m1 + m2) mu delta x1, since delta r2 = (cos 2 theta, sin 2 theta)
+  delta x1), so (1.95), (1.96) and (1.99) should have (m1 + m2) mu instead of m1 mu; (1.98)
+  with mu = eps f lambda/(m1 + m2) is consistent with the correct (m1 + m2) mu.
 * at rest (x1' = theta' = 0) the printed lambda_1 has both g terms with the wrong sign; the
   correct ``lambda_1 = m2/(m1 + m2) (X c + m2 g c^2 s - (m1 + m2 s^2) g s)``; the printed
   combination ``lambda_1 c + lambda_2 s = m2/(m1 + m2) (X - m1 g sin(2 theta))`` is right.
