@@ -1,10 +1,8 @@
 """Planar n-link pendulum of point masses (the benchmark system of multibody codes).
 
-Source: the classical n-link pendulum of the multibody literature, e.g. the n-pendulum
-example of sympy.physics.mechanics / PyDy (Gede, Peterson, Moore & Hubbard 2013, "Constrained
-multibody dynamics with Python: from symbolic equation generation to publication", sec. 5),
-used by :mod:`benchmarks.bench_pendulum` to compare this library with ``KanesMethod`` and
-``LagrangesMethod`` on the same system.
+Source: the classical n-link pendulum, the usual scaling benchmark of symbolic multibody
+codes (sympy.physics.mechanics and PyDy use it in their examples); ``benchmarks/bench_pendulum.py``
+builds the same system with ``KanesMethod`` and ``LagrangesMethod`` and compares.
 
 Model.  n massless rods of lengths l_k carry point masses m_k; the rods hang from a fixed
 pivot at the origin and are jointed at the masses.  Coordinates are the absolute angles q_k of
