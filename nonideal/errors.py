@@ -33,7 +33,9 @@ __all__ = [
 
 def did_you_mean(name: str, candidates: Iterable[str]) -> str:
     """Return ``" (did you mean 'x'?)"`` when *name* is close to one of *candidates*."""
-    close = get_close_matches(name, list(candidates), n=1, cutoff=0.6)
+    candidates = [str(c) for c in candidates]
+    same_case = [c for c in candidates if c.lower() == name.lower() and c != name]
+    close = same_case or get_close_matches(name, candidates, n=1, cutoff=0.6)
     return f" (did you mean '{close[0]}'?)" if close else ""
 
 
@@ -75,7 +77,19 @@ class ModelError(NonidealError):
 
 
 class ExpressionError(ModelError):
-    """An expression string could not be parsed or uses something not allowed."""
+    """An expression string could not be parsed or uses something not allowed.
+
+    Attributes
+    ----------
+    unknown : list of (name, where)
+        The unknown names of the expression and where they were used (empty for a syntax
+        error); the model collects them into one "missing parameters" summary.
+    """
+
+    def __init__(self, problems: str | Iterable[str], source: str | None = None,
+                 unknown: Iterable[tuple[str, str]] = ()):
+        self.unknown = list(unknown)
+        super().__init__(problems, source)
 
 
 class InconsistentInitialConditions(ModelError):
@@ -106,11 +120,22 @@ class IntegrationFailed(ModelError):
     def __init__(self, t: float, mode: str, reason: str, source: str | None = None):
         self.t, self.mode, self.reason = float(t), mode, reason
         super().__init__(
-            f"integration failed at t = {t:.10g} in mode [{mode}]: {reason}. "
-            "Try a tighter tolerance (rtol/atol in [simulation]), another method "
-            "(method = \"Radau\" for stiff problems) or a shorter t_end.",
+            f"integration failed at t = {t:.10g} in mode [{mode}]: {_explain_reason(reason)}. "
+            f"Fix: simulate to an earlier end time (--t-end below {t:.6g} or [simulation] "
+            "t_end), use method = \"Radau\" in [simulation] if the problem is stiff, or "
+            "change rtol/atol in [simulation]",
             source,
         )
+
+
+def _explain_reason(reason: str) -> str:
+    """The integrator's reason, with what it usually means."""
+    text = (reason or "step failed").strip().rstrip(".")
+    if "step size" in text.lower() and "spacing" in text.lower():
+        return (f"the step size fell below the floating-point resolution of t ({text!r}); "
+                "the solution probably blows up (grows without bound) near this time, or the "
+                "problem is very stiff there")
+    return text
 
 
 class MechanicsError(NonidealError):

@@ -1,31 +1,50 @@
 """A safe parser for the expressions of model files.
 
-A model file is data.  Expressions are parsed with :func:`ast.parse` (which builds a syntax
-tree and runs nothing) and the tree is walked against a whitelist: numbers, known names,
-``+ - * / **`` (``^`` is accepted for powers), unary minus, and calls of a fixed set of
-elementary functions.  Attribute access, subscripts, keywords, lambdas, comparisons and every
-other construct are rejected with a message that says where.  Neither :func:`eval` nor
-:func:`sympy.sympify` ever sees the user's text.
+A model file is data.  Expressions are read by a small hand-written recursive-descent parser
+over a whitelist of tokens -- numbers, names, ``+ - * / ^ **``, parentheses, commas and
+primes -- and turned into SymPy objects directly.  Neither :func:`eval`, :func:`compile`,
+:func:`ast.parse` nor :func:`sympy.sympify` ever sees the user's text, so nothing in a model
+file can run code, look up attributes or import anything.  Names must be ASCII identifiers
+known to the model (parameters, coordinates and their derivatives, ``t``), ``pi``, or calls of
+a fixed set of elementary functions.
 
-Derivatives are written with primes: ``x'`` is the velocity of coordinate ``x`` and ``x''``
-its acceleration.
+Grammar (the precedence of Python/SymPy: ``-x^2 = -(x^2)``, ``2^3^2 = 2^9``)::
+
+    expr   := term (("+" | "-") term)*
+    term   := unary (("*" | "/") unary)*
+    unary  := ("+" | "-")* power
+    power  := atom (("^" | "**") unary)?
+    atom   := NUMBER | NAME | NAME "(" expr ("," expr)* ")" | "(" expr ")"
+    NAME   := [A-Za-z_][A-Za-z_0-9]* followed by up to two primes (x' and x'')
+
+Guards keep hostile input cheap: a length limit (:data:`MAX_LENGTH`), a nesting limit
+(:data:`MAX_DEPTH`, parentheses, powers and calls), a limit on exponents
+(:data:`MAX_EXPONENT`, also after SymPy combines ``(x^a)^b``), on the size of numbers
+(:data:`MAX_DIGITS`), and sums and products are built in one step (no quadratic re-flattening).
+Every error is an :class:`~nonideal.errors.ExpressionError` that names where the text comes
+from, the column, and what to write instead; all unknown names of an expression are reported
+together (``ExpressionError.unknown``).
 """
 
 from __future__ import annotations
 
-import ast
+import math
 import re
+import unicodedata
 from collections.abc import Mapping
+from dataclasses import dataclass
 
 import sympy as sp
 
 from .errors import ExpressionError, did_you_mean
 
-__all__ = ["parse_expression", "FUNCTIONS", "MAX_LENGTH"]
+__all__ = ["parse_expression", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH", "MAX_DEPTH",
+           "MAX_EXPONENT", "MAX_DIGITS"]
 
-MAX_LENGTH = 50_000
-MAX_DEPTH = 200
-MAX_EXPONENT = 64
+MAX_LENGTH = 50_000     # characters of one expression
+MAX_DEPTH = 100         # nested parentheses / powers / calls
+MAX_EXPONENT = 64       # |exponent| of a power with a numeric exponent
+MAX_DIGITS = 1_000      # decimal digits of a number (literal or computed)
 
 FUNCTIONS: Mapping[str, tuple[object, int]] = {
     "sin": (sp.sin, 1), "cos": (sp.cos, 1), "tan": (sp.tan, 1), "cot": (sp.cot, 1),
@@ -38,35 +57,36 @@ FUNCTIONS: Mapping[str, tuple[object, int]] = {
 }
 CONSTANTS: Mapping[str, sp.Expr] = {"pi": sp.pi}
 
-_PRIME = re.compile(r"([A-Za-z_][A-Za-z_0-9]*)('+)")
-_BAD_PRIME = re.compile(r"[^A-Za-z_0-9\s']\s*'|^\s*'")
-_D = ("__d1__", "__d2__")
+_TOKEN = re.compile(
+    r"(?P<ws>\s+)"
+    r"|(?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)"
+    r"|(?P<name>[A-Za-z_][A-Za-z_0-9]*'*)"
+    r"|(?P<op>\*\*|[-+*/^(),])"
+)
+_FORBIDDEN_OPS = {
+    "%": "the modulo operator '%'", "@": "the operator '@'", "&": "the operator '&'",
+    "|": "the operator '|'", "~": "the operator '~'", "<": "comparisons", ">": "comparisons",
+    "=": "'=' (an expression is not an equation: write lhs - rhs)", "!": "'!'",
+    ".": "attribute access ('.')", "[": "brackets ('[')", "]": "brackets (']')",
+    "{": "braces ('{')", "}": "braces ('}')", '"': "strings", "'": "a lone prime",
+    ":": "':'", ";": "';'", "#": "comments ('#')", "\\": "backslashes", "$": "'$'",
+    "?": "'?'", "`": "'`'",
+}
 
 
-def _encode_primes(text: str, where: str) -> str:
-    if _BAD_PRIME.search(text):
-        raise ExpressionError(
-            f"{where}: a prime (') must follow a coordinate name, as in x' or x'' "
-            f"(got {text!r})"
-        )
-
-    def repl(m: re.Match) -> str:
-        order = len(m.group(2))
-        if order > 2:
-            raise ExpressionError(
-                f"{where}: {m.group(1)}{m.group(2)} -- only first (x') and second (x'') "
-                "derivatives can be written"
-            )
-        return _D[order - 1] + m.group(1)
-
-    return _PRIME.sub(repl, text)
+@dataclass(frozen=True)
+class _Token:
+    kind: str    # "number" | "name" | "op" | "end"
+    text: str
+    col: int     # 0-based column in the user's text
 
 
-def _decode_name(name: str) -> str:
-    for order, tag in enumerate(_D, start=1):
-        if name.startswith(tag):
-            return name[len(tag):] + "'" * order
-    return name
+class _Fail(Exception):
+    """Internal: a syntax problem at a column (turned into an ExpressionError)."""
+
+    def __init__(self, col: int, what: str):
+        super().__init__(what)
+        self.col, self.what = col, what
 
 
 def parse_expression(
@@ -93,8 +113,8 @@ def parse_expression(
     Raises
     ------
     ExpressionError
-        With the position of a syntax error, the unknown name and a "did you mean", or the
-        construct that is not allowed.
+        With the column of a syntax error, every unknown name with a "did you mean", or the
+        construct that is not allowed.  ``exc.unknown`` lists the unknown names.
 
     Examples
     --------
@@ -104,125 +124,305 @@ def parse_expression(
     x'**2/2 + sin(x)
     """
     if isinstance(text, bool):
-        raise ExpressionError(f"{where}: expected an expression, got a boolean ({text})")
-    if isinstance(text, (int, float)):
-        return sp.Rational(repr(text)) if isinstance(text, float) else sp.Integer(text)
+        raise ExpressionError(f"{where}: expected an expression, got a boolean ({text}); "
+                              "write a number or a quoted expression")
+    if isinstance(text, int):
+        if abs(text) >= 10**MAX_DIGITS:
+            raise ExpressionError(f"{where}: number with more than {MAX_DIGITS} digits")
+        return sp.Integer(text)
+    if isinstance(text, float):
+        if not math.isfinite(text):
+            raise ExpressionError(f"{where}: {text!r} is not a finite number")
+        return sp.Rational(repr(text))
     if not isinstance(text, str):
         raise ExpressionError(
-            f"{where}: expected an expression string, got {type(text).__name__} ({text!r})"
+            f"{where}: expected an expression string, got {type(text).__name__} "
+            f"({_short(repr(text))}); write it as a quoted string, e.g. \"m*g*y\""
         )
     if len(text) > MAX_LENGTH:
-        raise ExpressionError(f"{where}: expression longer than {MAX_LENGTH} characters")
+        raise ExpressionError(
+            f"{where}: expression of {len(text)} characters is longer than the limit of "
+            f"{MAX_LENGTH}; split it with parameters or use [[bodies]] to assemble energies"
+        )
     if not text.strip():
         raise ExpressionError(f"{where}: empty expression (write \"0\" for zero)")
-    source = _encode_primes(text, where).replace("^", "**")
+    parser = _Parser(text, names, where)
     try:
-        tree = ast.parse(source.strip(), mode="eval")
-    except SyntaxError as exc:
-        col = (exc.offset or 1) - 1
-        caret = " " * (len(where) + 2 + min(col, len(text))) + "^"
-        raise ExpressionError(
-            f"{where}: malformed expression {text!r}: {exc.msg} at column {col + 1}\n{caret}"
-        ) from None
-    except (RecursionError, MemoryError, ValueError):
+        expr = parser.parse()
+    except _Fail as exc:
+        raise ExpressionError(_malformed(where, text, exc.col, exc.what)) from None
+    except RecursionError:  # pragma: no cover - MAX_DEPTH keeps far below the limit
         raise ExpressionError(f"{where}: expression nested too deeply") from None
-    builder = _Builder(names, where, source.strip())
-    try:
-        return builder.build(tree.body, 0)
-    except RecursionError:
-        raise ExpressionError(f"{where}: expression nested too deeply") from None
+    if parser.unknown:
+        raise parser.unknown_error()
+    return expr
 
 
-class _Builder:
-    def __init__(self, names: Mapping[str, sp.Expr], where: str, source: str):
-        self.names, self.where, self.source = names, where, source
+def _short(s: str, width: int = 60) -> str:
+    return s if len(s) <= width else s[: width - 3] + "..."
 
-    def fail(self, node: ast.AST, what: str) -> ExpressionError:
-        segment = ast.get_source_segment(self.source, node) or ""
-        for order, tag in enumerate(_D, start=1):
-            segment = re.sub(tag + r"([A-Za-z_][A-Za-z_0-9]*)", r"\1" + "'" * order, segment)
-        return ExpressionError(f"{self.where}: {what} (in {segment!r})")
 
-    def build(self, node: ast.AST, depth: int) -> sp.Expr:
-        if depth > MAX_DEPTH:
-            raise ExpressionError(f"{self.where}: expression nested too deeply")
-        if isinstance(node, ast.Constant):
-            value = node.value
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise self.fail(node, f"only numbers are allowed as constants, got {value!r}")
-            if isinstance(value, int):
-                return sp.Integer(value)
-            literal = ast.get_source_segment(self.source, node) or repr(value)
-            try:
-                return sp.Rational(literal)
-            except (TypeError, ValueError):
-                return sp.Float(value)
-        if isinstance(node, ast.Name):
-            return self.name(node)
-        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-            operand = self.build(node.operand, depth + 1)
-            return -operand if isinstance(node.op, ast.USub) else operand
-        if isinstance(node, ast.BinOp):
-            left = self.build(node.left, depth + 1)
-            right = self.build(node.right, depth + 1)
-            op = node.op
-            if isinstance(op, ast.Add):
-                return left + right
-            if isinstance(op, ast.Sub):
-                return left - right
-            if isinstance(op, ast.Mult):
-                return left * right
-            if isinstance(op, ast.Div):
-                if right == 0:
-                    raise self.fail(node, "division by zero")
-                return left / right
-            if isinstance(op, ast.Pow):
-                if right.is_number and abs(float(right)) > MAX_EXPONENT:
-                    raise self.fail(node, f"exponent larger than {MAX_EXPONENT} in magnitude")
-                return left**right
-            raise self.fail(node, f"operator {type(op).__name__} is not allowed (use + - * / ^)")
-        if isinstance(node, ast.Call):
-            return self.call(node, depth)
-        raise self.fail(node, f"{type(node).__name__} is not allowed in an expression")
+def _malformed(where: str, text: str, col: int, what: str) -> str:
+    """``where: malformed expression at column c: what`` plus the text with a caret."""
+    shown = "".join(" " if ch in "\t\r\n\v\f" else ch for ch in text)
+    lo = 0
+    if len(shown) > 100:
+        lo = max(0, min(col - 50, len(shown) - 100))
+        shown = ("..." if lo else "") + shown[lo:lo + 100] + ("..." if lo + 100 < len(text) else "")
+        caret = col - lo + (3 if lo else 0)
+    else:
+        caret = col
+    return (f"{where}: malformed expression at column {col + 1}: {what}\n"
+            f"    {shown}\n    {' ' * caret}^")
 
-    def name(self, node: ast.Name) -> sp.Expr:
-        raw = node.id
-        name = _decode_name(raw)
+
+def _tokenize(text: str) -> list[_Token]:
+    tokens: list[_Token] = []
+    pos, n = 0, len(text)
+    while pos < n:
+        m = _TOKEN.match(text, pos)
+        if m is None:
+            ch = text[pos]
+            if ord(ch) > 127:
+                try:
+                    uname = unicodedata.name(ch)
+                except ValueError:
+                    uname = "unnamed"
+                raise _Fail(pos, f"non-ASCII character {ch!r} (U+{ord(ch):04X} {uname}); "
+                                 "names are ASCII letters, digits and _ (write theta, not a "
+                                 "Greek letter)")
+            what = _FORBIDDEN_OPS.get(ch, f"the character {ch!r}")
+            if ch == "'":
+                raise _Fail(pos, "a prime (') must directly follow a coordinate name, as in "
+                                 "x' or x''")
+            raise _Fail(pos, f"{what} is not allowed; expressions use numbers, names, "
+                             "+ - * / ^ and parentheses")
+        kind = m.lastgroup
+        if kind != "ws":
+            tokens.append(_Token(kind, m.group(), pos))
+        pos = m.end()
+    tokens.append(_Token("end", "", n))
+    return tokens
+
+
+class _Parser:
+    def __init__(self, text: str, names: Mapping[str, sp.Expr], where: str):
+        self.text, self.names, self.where = text, names, where
+        self.tokens = _tokenize(text)
+        self.i = 0
+        self.depth = 0
+        self.unknown: dict[str, int] = {}          # unknown name -> first column
+        self.placeholders: dict[str, sp.Dummy] = {}
+
+    # ---------------------------------------------------------------- token helpers
+    def peek(self) -> _Token:
+        return self.tokens[self.i]
+
+    def next(self) -> _Token:
+        tok = self.tokens[self.i]
+        self.i += 1
+        return tok
+
+    def enter(self, col: int) -> None:
+        self.depth += 1
+        if self.depth > MAX_DEPTH:
+            raise _Fail(col, f"nested more than {MAX_DEPTH} levels deep (parentheses, "
+                             "powers or calls); simplify the expression")
+
+    def expect_operand(self, tok: _Token) -> _Fail:
+        if tok.kind == "end":
+            return _Fail(tok.col, "unexpected end of the expression (an operand is missing)")
+        return _Fail(tok.col, f"expected a number, a name or '(' but found '{tok.text}'")
+
+    # ---------------------------------------------------------------- grammar
+    def parse(self) -> sp.Expr:
+        expr = self.expr()
+        tok = self.peek()
+        if tok.kind != "end":
+            if tok.text == ")":
+                raise _Fail(tok.col, "unmatched ')'")
+            if tok.text == ",":
+                raise _Fail(tok.col, "',' outside a function call (an expression is one value)")
+            prev = self.tokens[self.i - 1]
+            raise _Fail(tok.col, f"missing operator between '{prev.text}' and '{tok.text}' "
+                                 f"(write {prev.text}*{tok.text} for a product)")
+        self.check_value(expr)
+        return expr
+
+    def expr(self) -> sp.Expr:
+        terms = [self.term()]
+        while self.peek().text in ("+", "-"):
+            op = self.next().text
+            term = self.term()
+            terms.append(term if op == "+" else -term)
+        return terms[0] if len(terms) == 1 else sp.Add(*terms)
+
+    def term(self) -> sp.Expr:
+        factors = [self.unary()]
+        while self.peek().text in ("*", "/"):
+            op = self.next()
+            col = self.peek().col
+            factor = self.unary()
+            if op.text == "/":
+                if factor == 0:
+                    raise _Fail(col, "division by zero")
+                factor = sp.Pow(factor, -1)
+            factors.append(factor)
+        return factors[0] if len(factors) == 1 else sp.Mul(*factors)
+
+    def unary(self) -> sp.Expr:
+        negative = False
+        while self.peek().text in ("+", "-"):
+            if self.next().text == "-":
+                negative = not negative
+        value = self.power()
+        return -value if negative else value
+
+    def power(self) -> sp.Expr:
+        base = self.atom()
+        if self.peek().text in ("^", "**"):
+            op = self.next()
+            self.enter(op.col)
+            exponent = self.unary()
+            self.depth -= 1
+            return self.pow(base, exponent, op.col)
+        return base
+
+    def atom(self) -> sp.Expr:
+        tok = self.next()
+        if tok.kind == "number":
+            return self.number(tok)
+        if tok.kind == "name":
+            if self.peek().text == "(":
+                return self.call(tok)
+            return self.name(tok)
+        if tok.text == "(":
+            self.enter(tok.col)
+            if self.peek().text == ")":
+                raise _Fail(self.peek().col, "empty parentheses")
+            value = self.expr()
+            close = self.next()
+            if close.text != ")":
+                if close.kind == "end":
+                    raise _Fail(tok.col, "'(' is never closed")
+                raise _Fail(close.col, f"expected ')' but found '{close.text}'")
+            self.depth -= 1
+            return value
+        raise self.expect_operand(tok)
+
+    # ---------------------------------------------------------------- leaves
+    def number(self, tok: _Token) -> sp.Expr:
+        s = tok.text
+        mantissa, _, exp = s.lower().partition("e")
+        if len(mantissa.replace(".", "").lstrip("0")) > MAX_DIGITS:
+            raise _Fail(tok.col, f"number with more than {MAX_DIGITS} digits")
+        if exp and abs(int(exp)) > 300:
+            raise _Fail(tok.col, f"number {s} is out of range (|exponent| > 300)")
+        nxt = self.peek()
+        if nxt.kind == "name" and nxt.col == tok.col + len(s):
+            raise _Fail(nxt.col, f"missing operator between '{s}' and '{nxt.text}' "
+                                 f"(write {s}*{nxt.text} for a product)")
+        if "." in s or exp:
+            return sp.Rational(s)
+        return sp.Integer(int(s))
+
+    def name(self, tok: _Token) -> sp.Expr:
+        name = tok.text
+        base, primes = name.rstrip("'"), len(name) - len(name.rstrip("'"))
+        if primes > 2:
+            raise _Fail(tok.col, f"{name}: only first (x') and second (x'') derivatives can be "
+                                 "written")
         if name in self.names:
             return self.names[name]
         if name in CONSTANTS:
             return CONSTANTS[name]
         if name in FUNCTIONS:
-            raise self.fail(node, f"function '{name}' used without arguments")
-        if name.endswith("'") and name.rstrip("'") in self.names:
-            base = name.rstrip("'")
-            if base + "'" not in self.names and base + "''" not in self.names:
-                kind = "'t' is time" if base == "t" else f"'{base}' is not a coordinate"
-                raise ExpressionError(
-                    f"{self.where}: {name} -- {kind}; only coordinates have derivatives"
-                )
-            raise ExpressionError(
-                f"{self.where}: {name} is not allowed here (this expression may not contain "
-                f"derivatives of '{base}' of that order)"
-            )
-        candidates = list(self.names) + list(CONSTANTS)
-        raise ExpressionError(
-            f"{self.where}: unknown symbol '{name}'{did_you_mean(name, candidates)}"
-        )
+            raise _Fail(tok.col, f"function '{name}' used without arguments; write {name}(...)")
+        if primes:
+            if base == "t":
+                raise _Fail(tok.col, f"{name}: 't' is time; only coordinates have derivatives")
+            if base in self.names:
+                if base + "'" not in self.names:
+                    raise _Fail(tok.col, f"{name}: derivatives are not allowed here (this "
+                                         "expression may depend on coordinates, parameters "
+                                         "and time only; and only coordinates have "
+                                         "derivatives)")
+                raise _Fail(tok.col, f"{name}: accelerations are not allowed here")
+            if base in CONSTANTS:
+                raise _Fail(tok.col, f"{name}: '{base}' is a constant; only coordinates have "
+                                     "derivatives")
+        self.unknown.setdefault(name, tok.col)
+        return self.placeholders.setdefault(name, sp.Dummy(name))
 
-    def call(self, node: ast.Call, depth: int) -> sp.Expr:
-        if not isinstance(node.func, ast.Name):
-            raise self.fail(node, "only calls of elementary functions by name are allowed")
-        fname = node.func.id
+    def call(self, tok: _Token) -> sp.Expr:
+        fname = tok.text
         if fname not in FUNCTIONS:
-            raise self.fail(
-                node,
-                f"unknown function '{fname}'{did_you_mean(fname, FUNCTIONS)}; allowed: "
-                + ", ".join(sorted(FUNCTIONS)),
-            )
-        if node.keywords or any(isinstance(a, ast.Starred) for a in node.args):
-            raise self.fail(node, "keyword or starred arguments are not allowed")
+            if fname in self.names or fname in CONSTANTS:
+                raise _Fail(tok.col, f"'{fname}' is not a function; write {fname}*(...) for a "
+                                     "product")
+            raise _Fail(tok.col, f"unknown function '{fname}'{did_you_mean(fname, FUNCTIONS)}; "
+                                 "allowed: " + ", ".join(sorted(FUNCTIONS)))
         func, arity = FUNCTIONS[fname]
-        if len(node.args) != arity:
-            raise self.fail(node, f"{fname} takes {arity} argument(s), got {len(node.args)}")
-        return func(*(self.build(a, depth + 1) for a in node.args))
+        open_ = self.next()
+        self.enter(open_.col)
+        args = []
+        if self.peek().text == ")":
+            raise _Fail(self.peek().col, f"{fname} takes {arity} argument(s), got 0")
+        while True:
+            args.append(self.expr())
+            sep = self.next()
+            if sep.text == ",":
+                continue
+            if sep.text == ")":
+                break
+            if sep.kind == "end":
+                raise _Fail(open_.col, "'(' is never closed")
+            raise _Fail(sep.col, f"expected ',' or ')' but found '{sep.text}'")
+        self.depth -= 1
+        if len(args) != arity:
+            raise _Fail(tok.col, f"{fname} takes {arity} argument(s), got {len(args)}")
+        return func(*args)
+
+    # ---------------------------------------------------------------- checks
+    def pow(self, base: sp.Expr, exponent: sp.Expr, col: int) -> sp.Expr:
+        if exponent.is_number:
+            try:
+                e = complex(exponent)
+            except (TypeError, ValueError):
+                raise _Fail(col, "the exponent is not a number") from None
+            if not (math.isfinite(e.real) and math.isfinite(e.imag)):
+                raise _Fail(col, "the exponent is not finite")
+            if abs(e) > MAX_EXPONENT:
+                raise _Fail(col, f"exponent {_short(str(exponent), 30)} is larger than "
+                                 f"{MAX_EXPONENT} in magnitude")
+            if base.is_Rational and exponent.is_Rational:
+                bits = max(abs(base.p).bit_length(), abs(base.q).bit_length())
+                if bits * abs(e) > MAX_DIGITS * 3.33:
+                    raise _Fail(col, f"the number would have more than {MAX_DIGITS} digits")
+            if base == 0 and e.real < 0:
+                raise _Fail(col, "division by zero (0 to a negative power)")
+        result = sp.Pow(base, exponent)
+        if isinstance(result, sp.Pow) and result.exp.is_number:
+            try:
+                big = abs(complex(result.exp)) > MAX_EXPONENT
+            except (TypeError, ValueError):
+                big = True
+            if big:
+                raise _Fail(col, f"exponent larger than {MAX_EXPONENT} in magnitude after "
+                                 "combining powers")
+        return result
+
+    def check_value(self, expr: sp.Expr) -> None:
+        if expr.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+            raise _Fail(0, "the expression is undefined or infinite (a division by zero, "
+                           "log(0) or similar)")
+        if expr.has(sp.I):
+            raise _Fail(0, "the expression is complex (e.g. sqrt of a negative number); "
+                           "mechanical quantities are real")
+
+    def unknown_error(self) -> ExpressionError:
+        candidates = [n for n in self.names if not n.endswith("'")] + list(CONSTANTS)
+        candidates += [n for n in self.names if n.endswith("'")]
+        problems = [f"{self.where}: unknown symbol '{name}'{did_you_mean(name, candidates)}"
+                    for name in self.unknown]
+        return ExpressionError(problems, unknown=[(name, self.where) for name in self.unknown])
