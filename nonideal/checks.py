@@ -15,11 +15,12 @@ from typing import Any
 import numpy as np
 
 from .consistency import complete_state
+from .errors import MechanicsError, ModelError, PainleveParadox, SingularSystem
 from .model import Model
 from .modes import ModeSolver, select_mode
 from .numeric import kernel_of, parameter_vector
 
-__all__ = ["CheckReport", "check_model"]
+__all__ = ["CheckReport", "check_model", "diagnose_state", "diagnose_initial_state"]
 
 
 @dataclass
@@ -105,7 +106,10 @@ def check_model(model: Model) -> CheckReport:
     else:
         determinacy = "all constraints ideal: the motion is determinate"
     given = model.numeric_initial()
-    q, qd, _ = complete_state(kernel, given, params, model.t0)
+    q, qd, closed = complete_state(kernel, given, params, model.t0)
+    problem = diagnose_state(model, model.t0, q, qd, closed, definite=True)
+    if problem is not None:
+        raise problem
     solver = ModeSolver(kernel, params)
     mode = select_mode(solver, model.t0, q, qd)
     solver.solve(model.t0, q, qd, mode)  # raises on singular M / dependent constraints
@@ -117,3 +121,146 @@ def check_model(model: Model) -> CheckReport:
         notes.append("completed from the constraints: " + ", ".join(completed))
     return CheckReport(model.name, model.source, list(model.coordinates), model.parameter_values,
                        cons, contacts, counts, determinacy, initial, mode.label(), notes)
+
+
+# ------------------------------------------------------------------ well-posedness at a state
+
+
+def _fmt_state(model: Model, t: float, q) -> str:
+    values = ", ".join(f"{c} = {float(v):.6g}" for c, v in zip(model.coordinates, q))
+    return f"t = {float(t):.6g} ({values})"
+
+
+def _combination(coeffs, names, tol=1e-9, prime="'") -> str:
+    terms = []
+    for c, nm in zip(coeffs, names):
+        if abs(c) <= tol:
+            continue
+        mag = f"{abs(c):.3g}*" if abs(abs(c) - 1) > 1e-9 else ""
+        sign = "-" if c < 0 else "+"
+        terms.append((sign, f"{mag}{nm}{prime}"))
+    if not terms:
+        return "0"
+    text = ("-" if terms[0][0] == "-" else "") + terms[0][1]
+    for sign, term in terms[1:]:
+        text += f" {sign} {term}"
+    return text
+
+
+def diagnose_state(model: Model, t: float, q, qd, closed=(), definite: bool = False,
+                   params=None) -> ModelError | None:
+    """Why the equations of motion at a state are singular, or ``None`` when they are not.
+
+    Checks, for the bilateral constraints and the unilateral ones in *closed* (kernel row
+    indices): constraints with a zero gradient, dependent (redundant) constraints -- named,
+    with the combination -- and a mass matrix that is singular (or, with ``definite``, not
+    positive definite) on the velocities the constraints allow.
+
+    Returns
+    -------
+    SingularSystem or None
+    """
+    kernel = kernel_of(model)
+    params = parameter_vector(model) if params is None else params
+    src = None if model.source == "<api>" else model.source
+    names = list(model.coordinates)
+    x = kernel.state_input(t, q, qd, params)
+    out = kernel.dynamics(x)
+    M = np.asarray(out["M"], dtype=float)
+    rows = [i for i, r in enumerate(kernel.rows) if not r.unilateral or i in set(closed)]
+    where = _fmt_state(model, t, q)
+    G = np.asarray(out["G"], dtype=float)[rows] if rows and kernel.m else np.zeros((0, kernel.n))
+    problems = []
+    scale = 1.0 + (float(np.max(np.abs(G))) if G.size else 0.0)
+    keep: list[int] = []
+    for j, i in enumerate(rows):
+        name = kernel.rows[i].name
+        g = G[j]
+        if np.max(np.abs(g), initial=0.0) <= 1e-12 * scale:
+            problems.append(
+                f"constraint '{name}' has a zero gradient at {where}, so its reaction has no "
+                "direction and its multiplier is undetermined (e.g. y^2 = 0 at y = 0); write it "
+                "with a nonzero gradient (y = 0 instead of y^2 = 0) or remove it")
+            continue
+        if keep and np.linalg.matrix_rank(G[keep + [j]], tol=1e-10 * scale) < len(keep) + 1:
+            coef, *_ = np.linalg.lstsq(G[keep].T, g, rcond=None)
+            parts = [(c, kernel.rows[rows[k]].name) for c, k in zip(coef, keep) if abs(c) > 1e-9]
+            if len(parts) == 1:
+                c, other = parts[0]
+                how = (f"repeats constraint '{other}'" if abs(c - 1) < 1e-9 else
+                       f"repeats constraint '{other}' (its gradient is {c:.6g} times that of "
+                       f"'{other}')")
+            else:
+                how = ("is a combination of constraints "
+                       + ", ".join(f"'{nm}'" for _, nm in parts)
+                       + " (gradient = " + " + ".join(f"{c:.4g}*grad('{nm}')" for c, nm in parts)
+                       + ")")
+            problems.append(
+                f"dependent (redundant) constraints: '{name}' {how} at {where}; the "
+                "multipliers of dependent constraints are not unique: remove "
+                f"'{name}' or make the constraints independent")
+            continue
+        keep.append(j)
+    if problems:
+        return SingularSystem(problems, src)
+    Gk = G[keep]
+    if Gk.shape[0]:
+        _, sv, Vt = np.linalg.svd(Gk)
+        null = Vt[Gk.shape[0]:].T
+    else:
+        null = np.eye(kernel.n)
+    if null.shape[1] == 0:
+        return None
+    Mr = null.T @ M @ null
+    Mr = (Mr + Mr.T) / 2
+    w, v = np.linalg.eigh(Mr)
+    tol = 1e-10 * max(1.0, float(np.max(np.abs(M))))
+    for k in range(len(w)):
+        if w[k] > tol or (w[k] < -tol and not definite):
+            continue
+        vec = null @ v[:, k]
+        vec = vec / vec[np.argmax(np.abs(vec))]
+        combo = _combination(vec, names)
+        single = [c for c, a in zip(names, vec) if abs(a) > 1e-9]
+        if abs(w[k]) <= tol:
+            if len(single) == 1:
+                what = (f"the kinetic energy does not depend on {single[0]}', so coordinate "
+                        f"'{single[0]}' has no inertia and its acceleration is undetermined")
+            else:
+                what = (f"the kinetic energy does not depend on the velocity combination "
+                        f"{combo}: that motion has no inertia and its acceleration is "
+                        "undetermined")
+            return SingularSystem(
+                f"singular mass matrix at {where}: {what}; give it inertia (a mass or moment "
+                "of inertia in [energy] kinetic or [[bodies]]), constrain it with a "
+                "[[constraints]] block, or remove the coordinate", src)
+        if definite and w[k] < -tol:
+            return SingularSystem(
+                f"the kinetic energy is not positive definite at {where}: along the velocity "
+                f"combination {combo} it is negative (inertia {w[k]:.4g}); check the signs of "
+                "[energy] kinetic (T = m/2*x'^2 >= 0)", src)
+    return None
+
+
+def diagnose_initial_state(model: Model) -> ModelError | None:
+    """:func:`diagnose_state` at the model's (completed) initial state; ``None`` if fine or if
+    the initial state itself cannot be completed (that error is raised elsewhere)."""
+    kernel = kernel_of(model)
+    params = parameter_vector(model)
+    try:
+        q, qd, closed = complete_state(kernel, model.numeric_initial(), params, model.t0)
+    except ModelError:
+        return None
+    return diagnose_state(model, model.t0, q, qd, closed, params=params)
+
+
+def explain_mechanics_error(model: Model, exc: MechanicsError) -> Exception:
+    """Replace a generic "no consistent mode" error by a named singularity when there is one.
+
+    The mode selection treats a singular system as "no consistent choice"; a singular mass
+    matrix or dependent constraints are bad input (exit code 2), not a paradox.
+    """
+    if isinstance(exc, PainleveParadox):
+        return exc
+    found = diagnose_initial_state(model)
+    return found if found is not None else exc

@@ -171,10 +171,9 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
             if found:
                 break
         if not found:
-            missing = [names[i] for i in miss_q]
             raise InconsistentInitialConditions(
-                f"[initial]: coordinates {missing} are not given and cannot be determined from "
-                "the constraints; give them in [initial]", _src(model))
+                _missing_positions(levels, pos_rows, miss_q, miss_v, t0, q, qd, ok),
+                _src(model))
     G, pos, vel = levels(t0, q, qd)
     scale = _scale(q)
     problems = []
@@ -209,10 +208,9 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
             if found:
                 break
         if not found:
-            missing = [names[i] + "'" for i in miss_v]
             raise InconsistentInitialConditions(
-                f"[initial]: velocities {missing} are not given and cannot be determined from "
-                "the constraints; give them in [initial]", _src(model))
+                _missing_values(names, [], 0, miss_v, _undetermined(levels, vel_eq, miss_v, t0, q, qd)),
+                _src(model))
     G, pos, vel = levels(t0, q, qd)
     vscale = _scale(qd)
     for i in vel_eq:
@@ -231,6 +229,60 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     qd = _project(levels, vel_eq, t0, q, qd, "vel")
     closed_constraints = [rows[i].index for i in closed if rows[i].kind == "constraint"]
     return q, qd, closed_constraints
+
+
+def _undetermined(levels, rows, unknown, t, q, qd) -> int:
+    """How many of the *unknown* entries the *rows* leave undetermined (rank deficit)."""
+    if not unknown:
+        return 0
+    if not rows:
+        return len(unknown)
+    G, _, _ = levels(t, q, qd)
+    return len(unknown) - int(np.linalg.matrix_rank(G[rows][:, unknown]))
+
+
+def _missing_values(names, miss_q, need_q, miss_v, need_v) -> list[str]:
+    """Messages listing every missing coordinate and velocity at once."""
+    def part(kind, missing, need):
+        listed = ", ".join(missing)
+        if need >= len(missing):
+            return (f"{kind} {listed} {'is' if len(missing) == 1 else 'are'} not given and not "
+                    "determined by the constraints")
+        return (f"{kind} {listed} are not given and the constraints determine only "
+                f"{len(missing) - need} of them; give {need} more")
+    parts = []
+    if need_q:
+        parts.append(part("coordinate" if len(miss_q) == 1 else "coordinates",
+                          [names[i] for i in miss_q], need_q))
+    if need_v:
+        parts.append(part("velocity" if len(miss_v) == 1 else "velocities",
+                          [names[i] + "'" for i in miss_v], need_v))
+    example = []
+    if need_q:
+        example.append(f"{names[miss_q[0]]} = 0.0")
+    if need_v:
+        example.append(f"\"{names[miss_v[0]]}'\" = 0.0")
+    return [f"[initial]: {p}" for p in parts] + [
+        "[initial]: missing initial values; add them to [initial] (e.g. "
+        + " and ".join(example) + "; velocity keys are quoted because of the prime); "
+        "there are no default values"]
+
+
+def _missing_positions(levels, pos_rows, miss_q, miss_v, t0, q, qd, converged) -> list[str]:
+    names = list(levels.kernel.model.coordinates)
+    need_q = _undetermined(levels, pos_rows, miss_q, t0, q, qd)
+    if need_q == 0 and not converged:
+        _, pos, _ = levels(t0, q, qd)
+        bad = ", ".join(f"'{levels.rows[i].name}' (residual {pos[i]:.3e})" for i in pos_rows
+                        if abs(pos[i]) > 1e-9 * _scale(q))
+        return [f"[initial]: the coordinates {', '.join(names[i] for i in miss_q)} cannot be "
+                f"completed: no values satisfy the constraints {bad} with the coordinates given "
+                "(Newton's method from 0.1 did not converge); check the given values, or give "
+                "these coordinates too"]
+    vel_eq = [i for i, r in enumerate(levels.rows)
+              if not r.unilateral and levels.has_velocity[i]]
+    need_v = _undetermined(levels, vel_eq, miss_v, t0, q, qd)
+    return _missing_values(names, miss_q, max(need_q, 1), miss_v, need_v)
 
 
 def _project(levels: _Levels, rows: Sequence[int], t, q, qd, level: str, iters: int = 8):
