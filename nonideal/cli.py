@@ -2,21 +2,25 @@
 
 Exit codes: 0 success; 2 bad input (the message names the file, the key and the fix);
 3 the mechanics has no consistent or no unique answer.  Nothing is written to an output path
-unless the run succeeded (outputs are written to a temporary file and renamed at the end).
+unless the run succeeded: the options are checked before any work, outputs are produced into
+temporary files next to their destinations and renamed only when every one of them is ready.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
 import tempfile
 from pathlib import Path
 
-from .errors import MechanicsError, ModelError, NonidealError
+from .errors import MechanicsError, ModelError, NonidealError, did_you_mean
 
-__all__ = ["main"]
+__all__ = ["main", "build_parser"]
+
+METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 
 
 # ------------------------------------------------------------------------------ helpers
@@ -32,28 +36,46 @@ def _load(spec: str):
         return load_model(path)
     if spec in gallery.names():
         return gallery.load(spec)
-    raise ModelError(f"model file not found: {spec} (nor is it a gallery example; "
-                     "see 'nonideal examples list')")
+    if spec.endswith(".toml"):
+        try:
+            nearby = [str(path.parent / f.name) if str(path.parent) != "." else f.name
+                      for f in (path.parent if path.parent.is_dir() else Path(".")).iterdir()
+                      if f.suffix == ".toml"]
+        except OSError:  # pragma: no cover
+            nearby = []
+        hint = did_you_mean(spec, nearby)
+    else:
+        hint = did_you_mean(spec, gallery.names())
+    raise ModelError(f"model file not found: {spec}{hint}; check the path (relative to "
+                     f"{Path.cwd()}), or give a gallery example name (see 'nonideal examples "
+                     "list')")
 
 
 class _Outputs:
     """Collects output files and writes them only when everything succeeded."""
 
     def __init__(self):
-        self.pending: list[tuple[Path, object]] = []
+        self.pending: list[tuple[str, Path, object]] = []
 
-    def add(self, path: str, producer) -> None:
-        self.pending.append((Path(path), producer))
+    def add(self, option: str, path: str, producer) -> None:
+        self.pending.append((option, Path(path), producer))
 
     def commit(self) -> None:
         staged = []
         try:
-            for path, producer in self.pending:
-                path.parent.mkdir(parents=True, exist_ok=True)
-                fd, tmp = tempfile.mkstemp(prefix=".nonideal-", suffix=path.suffix, dir=path.parent)
-                os.close(fd)
-                producer(tmp)
-                staged.append((tmp, path))
+            for option, path, producer in self.pending:
+                try:
+                    path.parent.mkdir(parents=True, exist_ok=True)
+                    fd, tmp = tempfile.mkstemp(prefix=".nonideal-", suffix=path.suffix,
+                                               dir=path.parent)
+                    os.close(fd)
+                    staged.append((tmp, path))
+                    producer(tmp)
+                except OSError as exc:
+                    raise ModelError(f"{option} {path}: cannot write: "
+                                     f"{exc.strerror or exc}") from None
+                except ValueError as exc:   # e.g. an image format matplotlib does not know
+                    raise ModelError(f"{option} {path}: cannot write: {exc}") from None
             for tmp, path in staged:
                 os.replace(tmp, path)
         finally:
@@ -62,19 +84,151 @@ class _Outputs:
                     os.unlink(tmp)
 
 
+def _check_outputs(args, model_spec: str) -> None:
+    """Reject output paths that collide with each other or with the model file, and plot
+    formats matplotlib cannot write -- before any work is done."""
+    problems = []
+    seen: dict[Path, str] = {}
+    model_path = Path(model_spec).resolve() if Path(model_spec).exists() else None
+    for option in ("json", "csv", "plot"):
+        value = getattr(args, option, None)
+        if not value or value == "-":
+            continue
+        flag = f"--{option}"
+        path = Path(value).resolve()
+        if model_path is not None and path == model_path:
+            problems.append(f"{flag} {value}: this is the model file itself; choose another "
+                            "output path")
+        elif path in seen:
+            problems.append(f"{flag} {value}: the same path as {seen[path]}; give each output "
+                            "its own file")
+        elif path.is_dir():
+            problems.append(f"{flag} {value}: is a directory; give a file name")
+        seen[path] = flag
+    plot = getattr(args, "plot", None)
+    if plot and Path(plot).suffix:
+        from matplotlib.figure import Figure
+
+        formats = Figure().canvas.get_supported_filetypes()
+        suffix = Path(plot).suffix.lstrip(".").lower()
+        if suffix not in formats:
+            problems.append(f"--plot {plot}: matplotlib cannot write '.{suffix}' files; use one "
+                            f"of {', '.join('.' + f for f in sorted(formats))}")
+    if problems:
+        raise ModelError(problems)
+
+
 def _emit_json(args, payload: dict, outputs: _Outputs) -> None:
     text = json.dumps(payload, indent=1, allow_nan=True)
     if args.json == "-":
         print(text)
     else:
-        outputs.add(args.json, lambda tmp: Path(tmp).write_text(text + "\n"))
+        outputs.add("--json", args.json, lambda tmp: Path(tmp).write_text(text + "\n"))
 
 
-def _floats(text: str, option: str) -> list[float]:
+def _times(text: str) -> list[float]:
+    """``--times 0,0.5,1``: finite, strictly increasing numbers."""
+    parts = [p.strip() for p in text.replace(";", ",").split(",")]
+    values, bad = [], []
+    for p in parts:
+        if not p:
+            continue
+        try:
+            v = float(p)
+        except ValueError:
+            bad.append(p)
+            continue
+        if not math.isfinite(v):
+            bad.append(p)
+            continue
+        values.append(v)
+    if bad:
+        raise ModelError(f"--times: {', '.join(repr(b) for b in bad)} "
+                         f"{'is not a finite number' if len(bad) == 1 else 'are not finite numbers'}"
+                         f"; write comma-separated numbers, e.g. --times 0,0.5,1 (got {text!r})")
+    if not values:
+        raise ModelError(f"--times: no times given (got {text!r}); write comma-separated "
+                         "numbers, e.g. --times 0,0.5,1")
+    for a, b in zip(values, values[1:]):
+        if not b > a:
+            raise ModelError(f"--times: the times must increase strictly, but {b:g} follows "
+                             f"{a:g} (got {text!r}); sort them and remove repetitions")
+    return values
+
+
+def _parse_at(model, text: str | None) -> dict[str, float]:
+    """``--at "x=0.1, theta=0.3, x'=1"``; values may be expressions in the parameters.
+
+    Every malformed entry is reported at once."""
+    if text is None:
+        return {}
+    import sympy as sp
+
+    from .errors import ExpressionError
+    from .expressions import parse_expression
+
+    allowed = list(model.coordinates) + [c + "'" for c in model.coordinates]
+    names = {n: sp.Symbol(n) for n in model.parameters}
+    values = {sp.Symbol(n): p.value for n, p in model.parameters.items()}
+    out: dict[str, float] = {}
+    problems: list[str] = []
+    parts = [p for p in text.split(",")]
+    if not text.strip():
+        raise ModelError(f"--at: empty state; write name=value pairs separated by commas, e.g. "
+                         f"--at \"{allowed[0]}=0.1, {allowed[-1]}=0\"")
+    for part in parts:
+        if not part.strip():
+            continue
+        if "=" not in part:
+            problems.append(f"--at: '{part.strip()}' is not of the form name=value (pairs are "
+                            f"separated by commas, e.g. \"{allowed[0]}=0.1, {allowed[-1]}=0\")")
+            continue
+        key, _, val = part.partition("=")
+        key = key.strip()
+        if key not in allowed:
+            problems.append(f"--at: '{key}' is not a coordinate or velocity"
+                            f"{did_you_mean(key, allowed)}; allowed: {', '.join(allowed)}")
+            continue
+        if key in out:
+            problems.append(f"--at: '{key}' is given twice")
+            continue
+        if "=" in val:
+            problems.append(f"--at: '{part.strip()}' has more than one '='; separate the pairs "
+                            "with commas")
+            continue
+        try:
+            expr = parse_expression(val.strip(), names, f"--at {key}")
+        except ExpressionError as exc:
+            problems.extend(exc.problems)
+            continue
+        out[key] = float(expr.subs(values))
+    if problems:
+        raise ModelError(problems)
+    return out
+
+
+def _independent(text: str | None, model) -> tuple[str, ...] | None:
+    if not text:
+        return None
+    names = tuple(s.strip() for s in text.split(",") if s.strip())
+    bad = [n for n in names if n not in model.coordinates]
+    if bad:
+        raise ModelError([f"--independent: '{n}' is not a coordinate"
+                          f"{did_you_mean(n, model.coordinates)}; coordinates: "
+                          + ", ".join(model.coordinates) for n in bad])
+    return names
+
+
+def _explained(model, exc: MechanicsError) -> Exception:
+    """A singular mass matrix or dependent constraints are bad input, not a paradox: when
+    the mode selection reports "no consistent mode" and the initial state is singular, say
+    what is singular instead."""
+    from .checks import explain_mechanics_error
+
     try:
-        return [float(x) for x in text.replace(";", ",").split(",") if x.strip()]
-    except ValueError:
-        raise ModelError(f"{option}: expected comma-separated numbers (got {text!r})") from None
+        return explain_mechanics_error(model, exc)
+    except NonidealError:  # pragma: no cover - the diagnosis must not mask the error
+        return exc
 
 
 # ------------------------------------------------------------------------------ commands
@@ -83,6 +237,7 @@ def _floats(text: str, option: str) -> list[float]:
 def cmd_check(args) -> int:
     from .checks import check_model
 
+    _check_outputs(args, args.model)
     model = _load(args.model)
     report = check_model(model)
     outputs = _Outputs()
@@ -97,8 +252,9 @@ def cmd_check(args) -> int:
 def cmd_derive(args) -> int:
     from .formalisms import derive
 
+    _check_outputs(args, args.model)
     model = _load(args.model)
-    independent = tuple(s.strip() for s in args.independent.split(",")) if args.independent else None
+    independent = _independent(args.independent, model)
     eom = derive(model, args.form, independent=independent)
     outputs = _Outputs()
     if args.json:
@@ -112,12 +268,16 @@ def cmd_derive(args) -> int:
 
 
 def cmd_evaluate(args) -> int:
-    from .evaluation import evaluate, parse_state
+    from .evaluation import evaluate
 
+    _check_outputs(args, args.model)
     model = _load(args.model)
-    at = parse_state(model, args.at)
-    independent = tuple(s.strip() for s in args.independent.split(",")) if args.independent else None
-    ev = evaluate(model, at=at, t=args.t, form=args.form, independent=independent)
+    at = _parse_at(model, args.at)
+    independent = _independent(args.independent, model)
+    try:
+        ev = evaluate(model, at=at, t=args.t, form=args.form, independent=independent)
+    except MechanicsError as exc:
+        raise _explained(model, exc) from None
     outputs = _Outputs()
     if args.json:
         _emit_json(args, ev.to_dict(), outputs)
@@ -130,23 +290,45 @@ def cmd_evaluate(args) -> int:
 def cmd_simulate(args) -> int:
     from .simulation import simulate
 
+    _check_outputs(args, args.model)
+    for key in ("rtol", "atol"):
+        value = getattr(args, key)
+        if value is not None and not (0 < value < 1 and math.isfinite(value)):
+            raise ModelError(f"--{key}: must be a number in (0, 1), e.g. 1e-9 (got {value!r})")
     model = _load(args.model)
-    times = _floats(args.times, "--times") if args.times else None
+    times = _times(args.times) if args.times is not None else None
+    if args.t_end is not None and not args.t_end > model.t0:
+        raise ModelError(f"--t-end: must be later than t0 = {model.t0:g} (got {args.t_end:g})")
+    if times is not None and args.t_end is not None and times[-1] > args.t_end:
+        raise ModelError(f"--times: the last time {times[-1]:g} is after --t-end {args.t_end:g}; "
+                         "drop --t-end (it defaults to the last time) or extend it")
+    if times is not None and times[0] < model.t0:
+        raise ModelError(f"--times: {times[0]:g} is before the initial time t0 = {model.t0:g}"
+                         " ([simulation] t0)")
     options = {}
     for key in ("rtol", "atol", "method"):
         if getattr(args, key) is not None:
             options[key] = getattr(args, key)
-    traj = simulate(model, t_end=args.t_end, times=times, form=args.form, **options)
+    try:
+        traj = simulate(model, t_end=args.t_end, times=times, form=args.form, **options)
+    except MechanicsError as exc:
+        raise _explained(model, exc) from None
     outputs = _Outputs()
     if args.csv:
-        outputs.add(args.csv, traj.to_csv)
+        outputs.add("--csv", args.csv, traj.to_csv)
     if args.plot:
         from .plotting import plot_trajectory
 
-        outputs.add(args.plot, lambda tmp: plot_trajectory(traj, tmp))
-    if args.json:
+        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(traj, tmp))
+    stdout = None
+    if args.json == "-":
+        stdout = json.dumps(traj.to_dict(), indent=1, allow_nan=True)
+    elif args.json:
         _emit_json(args, traj.to_dict(), outputs)
-    else:
+    outputs.commit()
+    if stdout is not None:
+        print(stdout)
+    elif not args.json:
         d = traj.diagnostics
         print(f"{traj.model}: simulated t = {traj.t[0]:g} .. {traj.t[-1]:g} "
               f"({d['samples']} samples, {d['events']} events, form {d['form']}, {d['method']})")
@@ -157,7 +339,6 @@ def cmd_simulate(args) -> int:
                   f" -> mode [{e.get('mode', '')}]")
         print(f"  constraint residual max = {d['constraint_residual_max']:.3e}, "
               f"energy balance (relative) = {d['energy_balance_relative']:.3e}")
-    outputs.commit()
     return 0
 
 
@@ -171,8 +352,8 @@ def cmd_examples(args) -> int:
     if not args.name:
         raise ModelError(f"examples {args.action}: give the example's name (see 'nonideal examples list')")
     if args.name not in gallery.names():
-        from .errors import did_you_mean
-        raise ModelError(f"examples: no example '{args.name}'{did_you_mean(args.name, gallery.names())}")
+        raise ModelError(f"examples: no example '{args.name}'{did_you_mean(args.name, gallery.names())}"
+                         "; see 'nonideal examples list'")
     mod = gallery.module(args.name)
     if args.action == "show":
         print(mod.__doc__.strip())
@@ -187,9 +368,30 @@ def cmd_examples(args) -> int:
 # ------------------------------------------------------------------------------ parser
 
 
+def _form_type(forms):
+    def convert(value: str) -> str:
+        if value not in forms:
+            raise argparse.ArgumentTypeError(
+                f"unknown form '{value}'{did_you_mean(value, forms)}; choose one of "
+                + ", ".join(forms))
+        return value
+    convert.__name__ = "form"
+    return convert
+
+
+def _method_type(value: str) -> str:
+    if value not in METHODS:
+        raise argparse.ArgumentTypeError(
+            f"unknown integrator '{value}'{did_you_mean(value, METHODS)}; choose one of "
+            + ", ".join(METHODS))
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .formalisms import FORMS
 
+    forms = list(FORMS)
+    form_help = f"the form: {', '.join(forms)} (default lagrange1)"
     p = argparse.ArgumentParser(
         prog="nonideal",
         description="Analytical dynamics of systems with ideal and non-ideal constraints.",
@@ -200,14 +402,18 @@ def build_parser() -> argparse.ArgumentParser:
         sp.add_argument("--json", nargs="?", const="-", metavar="OUT",
                         help="machine-readable output (to OUT, or standard output)")
 
-    c = sub.add_parser("check", help="parse and validate a model; degrees of freedom, constraints, determinacy")
+    c = sub.add_parser("check", help="parse and validate a model; degrees of freedom, constraints, determinacy",
+                       description="Parse and validate a model; print degrees of freedom, "
+                       "constraints, contacts and determinacy, and check the initial state.")
     c.add_argument("model", help="model file (TOML) or gallery example name")
     json_option(c)
     c.set_defaults(func=cmd_check)
 
-    d = sub.add_parser("derive", help="equations of motion in a classical form")
-    d.add_argument("model")
-    d.add_argument("--form", default="lagrange1", choices=list(FORMS), help="the form (default lagrange1)")
+    d = sub.add_parser("derive", help="equations of motion in a classical form",
+                       description="Equations of motion of a model in a classical form.")
+    d.add_argument("model", help="model file (TOML) or gallery example name")
+    d.add_argument("--form", default="lagrange1", type=_form_type(forms), metavar="FORM",
+                   help=form_help)
     fmt = d.add_mutually_exclusive_group()
     fmt.add_argument("--latex", action="store_true", help="print LaTeX")
     json_option(fmt)
@@ -215,29 +421,37 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--simplify", action="store_true", help="trigsimp the printed equations (can be slow)")
     d.set_defaults(func=cmd_derive)
 
-    e = sub.add_parser("evaluate", help="accelerations, multipliers and reactions at one state")
-    e.add_argument("model")
+    e = sub.add_parser("evaluate", help="accelerations, multipliers and reactions at one state",
+                       description="Accelerations, multipliers, reactions (constraint and "
+                       "friction parts) and contact forces at one state.")
+    e.add_argument("model", help="model file (TOML) or gallery example name")
     e.add_argument("--at", help="state, e.g. \"x=0.1, theta=0.3, x'=1\" (default: the model's initial state)")
     e.add_argument("--t", type=float, default=None, help="time (default t0)")
-    e.add_argument("--form", default="lagrange1", choices=list(FORMS))
+    e.add_argument("--form", default="lagrange1", type=_form_type(forms), metavar="FORM",
+                   help=form_help)
     e.add_argument("--independent", help="independent coordinates for the reduced forms")
     json_option(e)
     e.set_defaults(func=cmd_evaluate)
 
-    s = sub.add_parser("simulate", help="the hybrid simulation")
-    s.add_argument("model")
+    s = sub.add_parser("simulate", help="the hybrid simulation",
+                       description="The hybrid simulation with exact switching of modes.")
+    s.add_argument("model", help="model file (TOML) or gallery example name")
     s.add_argument("--t-end", type=float, default=None, help="end time (default: [simulation] t_end)")
-    s.add_argument("--times", help="output exactly at these times, comma-separated")
-    s.add_argument("--form", default="lagrange1", choices=list(FORMS))
-    s.add_argument("--rtol", type=float)
-    s.add_argument("--atol", type=float)
-    s.add_argument("--method", choices=["DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA"])
+    s.add_argument("--times", help="output exactly at these times, comma-separated, strictly "
+                   "increasing (negative times: --times=-1,0,1)")
+    s.add_argument("--form", default="lagrange1", type=_form_type(forms), metavar="FORM",
+                   help=form_help)
+    s.add_argument("--rtol", type=float, help="relative tolerance (default: [simulation] rtol)")
+    s.add_argument("--atol", type=float, help="absolute tolerance (default: [simulation] atol)")
+    s.add_argument("--method", type=_method_type, metavar="METHOD",
+                   help=f"integrator: {', '.join(METHODS)} (default: [simulation] method)")
     json_option(s)
     s.add_argument("--csv", metavar="OUT", help="write the trajectory as CSV")
     s.add_argument("--plot", metavar="PNG", help="plot the trajectory, reactions and energy")
     s.set_defaults(func=cmd_simulate)
 
-    x = sub.add_parser("examples", help="the gallery of worked examples")
+    x = sub.add_parser("examples", help="the gallery of worked examples",
+                       description="The gallery of worked examples: list, show NAME, run NAME.")
     x.add_argument("action", choices=["list", "show", "run"])
     x.add_argument("name", nargs="?")
     x.set_defaults(func=cmd_examples)
@@ -246,7 +460,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:   # --help (0) or a usage error (2): return, do not exit
+        return int(exc.code or 0)
     try:
         return args.func(args)
     except ModelError as exc:
