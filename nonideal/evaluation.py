@@ -111,6 +111,43 @@ def parse_state(model: Model, text: str | None) -> dict[str, float]:
     return out
 
 
+def _complete_at(kernel, model: Model, at, params, t):
+    """The state at ``--at``: its values over the model's initial ones.  If that mix violates a
+    constraint (the user moved a coordinate the initial values of others depended on), the
+    initial values of the level ``--at`` touches are used only as start values and the rest is
+    completed from the constraints -- velocities first, then coordinates."""
+    from .errors import InconsistentInitialConditions
+
+    init = dict(model.numeric_initial())
+    given = {**init, **(at or {})}
+    try:
+        q, qd, _ = complete_state(kernel, given, params, t)
+        return q, qd
+    except InconsistentInitialConditions:
+        if not at:
+            raise
+    first_error = None
+    coords = set(model.coordinates)
+    for drop_coords in (False, True):
+        given = dict(at)
+        guess = {}
+        for k, v in init.items():
+            if k in given:
+                continue
+            if k.endswith("'"):
+                continue  # velocities not given at --at are completed
+            if drop_coords and any(c in coords for c in at):
+                guess[k] = v
+            else:
+                given[k] = v
+        try:
+            q, qd, _ = complete_state(kernel, given, params, t, guess=guess)
+            return q, qd
+        except InconsistentInitialConditions as exc:
+            first_error = first_error or exc
+    raise first_error
+
+
 def painleve_split(M: np.ndarray, G: np.ndarray, R: np.ndarray):
     """Split a generalized reaction ``R`` into ``G^T lambda`` and the friction part ``P R``.
 
@@ -158,10 +195,7 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     kernel = kernel_of(model)
     params = parameter_vector(model, parameters)
     t = model.t0 if t is None else float(t)
-    given = dict(model.numeric_initial())
-    if at:
-        given.update(at)
-    q, qd, _ = complete_state(kernel, given, params, t)
+    q, qd = _complete_at(kernel, model, at, params, t)
     solver = ModeSolver(kernel, params, form, independent)
     validate_contacts(solver, t, q, qd)
     mode = select_mode(solver, t, q, qd)

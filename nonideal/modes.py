@@ -399,6 +399,10 @@ class ModeSolver:
         except SingularMatrix:
             Gm, gm, Bm = self.assemble(mode, layout, out, cout) if layout else (
                 np.zeros((0, self.n)), np.zeros(0), np.zeros((self.n, 0)))
+            if self.form == "lagrange1" and any(r.kind != "constraint" for r in layout):
+                sol = _minimum_norm(M, F, Bm, Gm, gm)
+                if sol is not None:
+                    return sol[0], sol[1], layout, out, cout
             raise diagnose_singular(self, M, Gm, Bm, layout, t, q, qd) from None
 
     def _extra_values(self, mode: Mode, cout) -> np.ndarray:
@@ -488,6 +492,30 @@ class ModeSolver:
         return contacts, friction
 
 
+def _minimum_norm(M, F, B, G, gamma):
+    """Redundant contacts (a body resting on more supports than it needs, both ends of a flat
+    rod sticking): the accelerations are unique but the contact forces are statically
+    indeterminate.  Take the minimum-norm forces, if the system is consistent."""
+    n, m = M.shape[0], G.shape[0]
+    K = np.zeros((n + m, n + m))
+    K[:n, :n] = M
+    K[:n, n:] = -B
+    K[n:, :n] = G
+    rhs = np.concatenate((F, -gamma))
+    x, *_ = np.linalg.lstsq(K, rhs, rcond=1e-12)
+    scale = 1.0 + float(np.max(np.abs(rhs)))
+    if np.max(np.abs(K @ x - rhs)) > 1e-9 * scale:
+        return None
+    # the accelerations must be unique: M must be definite on the null space of G
+    rank = np.linalg.matrix_rank(G)
+    if rank < n:
+        _, _, Vt = np.linalg.svd(G)
+        null = Vt[rank:].T
+        if np.linalg.matrix_rank(null.T @ M @ null) < null.shape[1]:
+            return None
+    return x[:n], x[n:]
+
+
 def recover_multipliers(M: np.ndarray, F: np.ndarray, B: np.ndarray, qdd: np.ndarray) -> np.ndarray:
     """Multipliers from ``B mu = M q'' - F`` (exact for a consistent motion; least squares)."""
     mu, *_ = np.linalg.lstsq(B, M @ qdd - F, rcond=None)
@@ -500,8 +528,16 @@ def diagnose_singular(solver: ModeSolver, M, G, B, layout, t, q, qd) -> Exceptio
     names = list(kernel.model.coordinates)
     n = kernel.n
     src = None if kernel.model.source == "<api>" else kernel.model.source
-    where = f" at t = {t:.6g}, q = {dict(zip(names, np.round(q, 6)))}"
+    where = f" at t = {t:.6g}, q = {dict(zip(names, np.round(q, 6)))}, q' = {dict(zip(names, np.round(qd, 6)))}"
     m = len(layout)
+    bad = [r.name for j, r in enumerate(layout) if not (np.all(np.isfinite(G[j])) and np.all(np.isfinite(B[:, j])))]
+    if bad or not (np.all(np.isfinite(M))):
+        what = (f"constraint(s) {', '.join(repr(b) for b in bad)} are not differentiable" if bad
+                else "the mass matrix is not finite")
+        return MechanicsError(
+            f"{what}{where}: their gradient is NaN or infinite (e.g. sqrt or a norm of velocities "
+            "at zero, a singular point of a nonlinear constraint); the motion cannot be continued "
+            "through this state")
     if m:
         rank = np.linalg.matrix_rank(G)
         if rank < m:

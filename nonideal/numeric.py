@@ -338,6 +338,8 @@ class FormSystem:
                 x[off:off + X.size] = X.ravel()
                 off += X.size
         out = self.main(x)
+        if self.k == 0 and self.m == 0:  # no freedom left: the motion is the program itself
+            return np.empty(0), np.empty(0), np.array(out["r"], dtype=float)
         if self.m:
             a, mu = solve_saddle(out["A"], out["b"], out["B"], out["G"], out["gamma"])
         else:

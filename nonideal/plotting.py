@@ -51,6 +51,8 @@ def plot_trajectory(traj, path, title: str | None = None) -> None:
         ax.plot(t, e["friction_work"], label="friction work")
     if np.any(e["reaction_work"]):
         ax.plot(t, e["reaction_work"], label="reaction work")
+    if np.any(e.get("impact_work", 0)):
+        ax.plot(t, e["impact_work"], label="impact work")
     ax2 = ax.twinx()
     ax2.plot(t, e["balance"], color="0.5", lw=0.8, label="balance residual")
     ax2.set_ylabel("balance residual", color="0.5")

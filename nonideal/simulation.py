@@ -40,7 +40,7 @@ __all__ = ["simulate", "Simulation"]
 
 SOLVERS = {"DOP853": DOP853, "RK45": RK45, "RK23": RK23, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 PROJECTION_TOL = 1e-10
-N_WORK = 4  # active (non-potential), reactions, explicit time, friction
+N_WORK = 5  # active (non-potential), reactions, explicit time, friction, impacts
 
 
 class Simulation:
@@ -119,6 +119,7 @@ class Simulation:
             # and the rest (ideal and servo reactions)
             dy[2 * n + 1] = (R @ qd - P_f) if R is not None else 0.0
             dy[2 * n + 3] = P_f
+            dy[2 * n + 4] = 0.0  # impacts change it only at switches
             if powers:
                 P = kernel.dynamics(solver.input(t, q, qd))["P"]
                 dy[2 * n], dy[2 * n + 2] = P
@@ -202,7 +203,7 @@ class Simulation:
             loss = self._energy(t, q, qd) - e_before
             record.update(normal_velocity=float(vel), impulses=impulses, energy_change=float(loss))
             if self.track:
-                y[2 * n + 1] += loss  # work of the impulsive reactions
+                y[2 * n + 4] += loss  # work of the impulsive reactions
             new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8)
         else:
             new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8,
@@ -303,9 +304,10 @@ class Simulation:
             if times.size and times[0] < t0:
                 raise ModelError(f"--times: {times[0]} is before t0 = {t0}")
         if t_end is None:
-            t_end = model.simulation.t_end
-            if t_end is None and times is not None and times.size:
+            if times is not None and times.size:
                 t_end = float(times[-1])
+            else:
+                t_end = model.simulation.t_end
         if t_end is None:
             raise ModelError("no end time: give [simulation] t_end in the model or --t-end",
                              None if model.source == "<api>" else model.source)
@@ -329,6 +331,7 @@ class Simulation:
             next_time = 1 if times is not None else 0
         t = t0
         h = None
+        tiny = 0
         stopped = False
         projections = 0
         residual_max = {"position": 0.0, "velocity": 0.0}
@@ -354,6 +357,13 @@ class Simulation:
                                             None if model.source == "<api>" else model.source)
                 t_old, t_new = ode.t_old, ode.t
                 h = t_new - t_old
+                tiny = tiny + 1 if h < 1e-9 * max(t_end - t0, 1e-300) else 0
+                if tiny > 2000:
+                    raise IntegrationFailed(
+                        t_new, mode.label(), "the step size collapsed below 1e-9 of the time span for "
+                        "2000 steps: the right-hand side is not smooth here (a nonlinear constraint at "
+                        "a singular point, or a friction law without a sticking mode at zero slip)",
+                        None if model.source == "<api>" else model.source)
                 ctx = self.context(t_new, ode.y, mode)
                 g_new = [ev.value(ctx) for ev in events]
                 hits = []

@@ -43,7 +43,8 @@ class Trajectory:
     modes : list of str
     multipliers : dict name -> ndarray (N,)
     energy : dict name -> ndarray (N,) -- ``kinetic``, ``potential``, ``energy`` (T2 - T0 + V),
-        ``active_work``, ``reaction_work``, ``friction_work``, ``explicit_time_work``, ``balance``
+        ``active_work``, ``reaction_work``, ``friction_work``, ``explicit_time_work``,
+        ``impact_work`` (energy change at impacts), ``balance``
     events : list of dict
     diagnostics : dict
     contacts : dict name -> dict of arrays (``normal``, ``friction``, ``slip``, ``mode``)
@@ -105,13 +106,14 @@ class Trajectory:
                 res_p = max(res_p, float(np.max(np.abs(obs["pos"][pos]))))
             if vel:
                 res_v = max(res_v, float(np.max(np.abs(obs["vel"][vel]))))
-        works = Y[:, 2 * n:2 * n + 4] if Y.shape[1] > 2 * n else np.zeros((N, 4))
-        W_nc, W_R, W_t, W_f = works[:, 0], works[:, 1], works[:, 2], works[:, 3]
-        balance = (E - E[0]) - (W_nc + W_R + W_t + W_f) if N else np.zeros(0)
-        scale = max(1e-300, float(np.max(np.abs(np.concatenate((E, T, V, W_nc, W_R, W_t, W_f)))))) if N else 1.0
+        works = Y[:, 2 * n:2 * n + 5] if Y.shape[1] > 2 * n else np.zeros((N, 5))
+        W_nc, W_R, W_t, W_f, W_i = (works[:, k] for k in range(5))
+        balance = (E - E[0]) - (W_nc + W_R + W_t + W_f + W_i) if N else np.zeros(0)
+        scale = max(1e-300, float(np.max(np.abs(np.concatenate((E, T, V, W_nc, W_R, W_t, W_f, W_i)))))) if N else 1.0
         energy = {
             "kinetic": T, "potential": V, "energy": E, "active_work": W_nc,
             "reaction_work": W_R, "friction_work": W_f, "explicit_time_work": W_t,
+            "impact_work": W_i,
             "balance": balance,
         }
         diag = dict(diagnostics)

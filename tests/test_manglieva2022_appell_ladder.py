@@ -117,7 +117,7 @@ def test_energy_balance_with_the_plastic_landing(traj):
     assert d["energy_balance_relative"] < 1e-8
     assert d["constraint_residual_max"] <= 1e-8
     # the impact loss is booked as work of the (impulsive) reactions
-    assert traj.energy["reaction_work"][-1] == pytest.approx(E_after - E0, abs=1e-8)
+    assert traj.energy["impact_work"][-1] == pytest.approx(E_after - E0, abs=1e-8)
 
 
 @pytest.mark.parametrize("phase", [("wall", "floor"), ("floor",)], ids=["wall+floor", "floor"])
