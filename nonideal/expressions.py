@@ -146,8 +146,8 @@ def parse_expression(
         )
     if not text.strip():
         raise ExpressionError(f"{where}: empty expression (write \"0\" for zero)")
-    parser = _Parser(text, names, where)
     try:
+        parser = _Parser(text, names, where)
         expr = parser.parse()
     except _Fail as exc:
         raise ExpressionError(_malformed(where, text, exc.col, exc.what)) from None
@@ -194,7 +194,7 @@ def _tokenize(text: str) -> list[_Token]:
             what = _FORBIDDEN_OPS.get(ch, f"the character {ch!r}")
             if ch == "'":
                 raise _Fail(pos, "a prime (') must directly follow a coordinate name, as in "
-                                 "x' or x''")
+                                 "x' or x'' (quoted strings are not allowed)")
             raise _Fail(pos, f"{what} is not allowed; expressions use numbers, names, "
                              "+ - * / ^ and parentheses")
         kind = m.lastgroup
