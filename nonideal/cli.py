@@ -305,6 +305,18 @@ def cmd_simulate(args) -> int:
     if times is not None and times[0] < model.t0:
         raise ModelError(f"--times: {times[0]:g} is before the initial time t0 = {model.t0:g}"
                          " ([simulation] t0)")
+    if args.t_end is None and times is None and model.simulation.t_end is None:
+        problems = ["no end time: give t_end in [simulation] (e.g. t_end = 10.0), or --t-end T "
+                    "or --times on the command line"]
+        try:   # report the initial state's problems too, in the same run
+            from .consistency import complete_state
+            from .numeric import kernel_of, parameter_vector
+
+            complete_state(kernel_of(model), model.numeric_initial(), parameter_vector(model),
+                           model.t0)
+        except ModelError as exc:
+            problems += exc.problems
+        raise ModelError(problems, None if model.source == "<api>" else model.source)
     options = {}
     for key in ("rtol", "atol", "method"):
         if getattr(args, key) is not None:
