@@ -1,0 +1,273 @@
+"""Bad model files fail well: exit code 2, the file, the key, what is wrong and the fix --
+every problem in one run.  Each case is checked through the Python API (``load_model`` /
+``Model``) and through the command line (in-process ``nonideal.cli.main``)."""
+
+from pathlib import Path
+
+import pytest
+
+from nonideal import Constraint, Model
+from nonideal.cli import main
+from nonideal.errors import ModelError
+from nonideal.modelfile import load_model
+
+DATA = Path(__file__).parent / "data"
+
+
+def cli(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def load_error(name) -> ModelError:
+    with pytest.raises(ModelError) as info:
+        load_model(DATA / name)
+    assert type(info.value).exit_code == 2
+    return info.value
+
+
+def lines(err: str) -> list[str]:
+    """stderr of the CLI without the leading 'error: '."""
+    assert err.startswith("error: ")
+    return err[len("error: "):].rstrip("\n").split("\n")
+
+
+def test_unknown_symbol_did_you_mean(capsys):
+    path = DATA / "typo_thetta.toml"
+    expected = (f"{path}: constraint 'knife_edge': expr: unknown symbol 'thetta' "
+                "(did you mean 'theta'?)")
+    assert str(load_error("typo_thetta.toml")) == expected
+    code, out, err = cli(capsys, "check", path)
+    assert (code, out) == (2, "")
+    assert lines(err) == [expected]
+
+
+def test_missing_parameters_all_listed_in_one_run(capsys):
+    path = DATA / "missing_parameters.toml"
+    exc = load_error("missing_parameters.toml")
+    p = f"{path}: "
+    expected = [
+        p + "[energy] potential: unknown symbol 'g'",
+        p + "[energy] potential: unknown symbol 'k'",
+        p + "[forces] x: unknown symbol 'b'",
+        p + "[forces] x: unknown symbol 'c'",
+        p + "[forces] y: unknown symbol 'b'",
+        p + "missing parameters: b, c, g, k -- used in: b (in [forces] x, [forces] y); "
+            "c (in [forces] x); g (in [energy] potential); k (in [energy] potential); define "
+            "each in [parameters] as name = value (SI units), or correct the spelling; there "
+            "are no default values",
+    ]
+    assert str(exc).split("\n") == expected
+    code, _, err = cli(capsys, "check", path)
+    assert code == 2 and lines(err) == expected
+
+
+def test_missing_parameters_python_api():
+    with pytest.raises(ModelError) as info:
+        Model(name="api", coordinates=["x", "y"], parameters={"m": 1.0},
+              kinetic="m/2*(x'^2 + y'^2)", potential="m*g*y + k*x^2",
+              constraints=[Constraint.holonomic("line", "y - a*x")])
+    problems = info.value.problems
+    assert "[energy] potential: unknown symbol 'g'" in problems
+    assert "[energy] potential: unknown symbol 'k'" in problems
+    assert "constraint 'line': expr: unknown symbol 'a'" in problems
+    assert problems[-1].startswith("missing parameters: a, g, k -- used in: a (in constraint "
+                                   "'line': expr); g (in [energy] potential)")
+    assert str(info.value).count("\n") == 3       # no file name prefix for the API
+
+
+def test_missing_initial_values_all_listed(capsys):
+    path = DATA / "missing_initial.toml"
+    model = load_model(path)          # the file itself is well formed
+    from nonideal.checks import check_model
+    from nonideal.errors import InconsistentInitialConditions
+
+    with pytest.raises(InconsistentInitialConditions) as info:
+        check_model(model)
+    p = f"{path}: [initial]: "
+    expected = [
+        p + "coordinates y, z are not given and not determined by the constraints",
+        p + "velocities x', y', z' are not given and not determined by the constraints",
+        p + "missing initial values; add them to [initial] (e.g. y = 0.0 and \"x'\" = 0.0; "
+            "velocity keys are quoted because of the prime); there are no default values",
+    ]
+    assert str(info.value).split("\n") == expected
+    for command in ("check", "evaluate", "simulate"):
+        code, out, err = cli(capsys, command, path)
+        assert code == 2, command
+        if command == "simulate":    # the model has no t_end either: both are reported
+            assert lines(err)[0] == (f"{path}: no end time: give t_end in [simulation] (e.g. "
+                                     "t_end = 10.0), or --t-end T or --times on the command line")
+            assert lines(err)[1:] == expected
+        else:
+            assert lines(err) == expected, command
+    code, out, err = cli(capsys, "simulate", path, "--t-end", "1")
+    assert code == 2 and lines(err) == expected
+
+
+def test_velocities_partly_determined_by_a_constraint(capsys, tmp_path):
+    text = (DATA / "pendulum_xy.toml").read_text().replace("\"x'\" = 0.0\n", "")
+    path = tmp_path / "no_velocity.toml"
+    path.write_text(text)
+    code, _, err = cli(capsys, "check", path)
+    assert code == 2
+    assert lines(err)[0] == (f"{path}: [initial]: velocities x', y' are not given and the "
+                             "constraints determine only 1 of them; give 1 more")
+
+
+def test_unknown_keys_everywhere_with_suggestions(capsys):
+    path = DATA / "unknown_keys.toml"
+    p = f"{path}: "
+    expected = [
+        p + "top level: unknown key 'simulaton' (did you mean 'simulation'?); allowed: bodies, "
+            "constraints, contacts, coordinates, energy, forces, forms, gravity, initial, loads, "
+            "model, parameters, simulation",
+        p + "[energy]: unknown key 'potentail' (did you mean 'potential'?); allowed: kinetic, "
+            "potential",
+        p + "[[constraints]] #1 'floor': unknown key 'expresion' (did you mean 'expr'?); "
+            "allowed: description, expr, name, reaction, restitution, transform, type, unilateral",
+        p + "[[constraints]] #1 'floor': missing expr (a constraint needs name = \"...\" and "
+            "expr = \"...\", meaning expr = 0)",
+    ]
+    assert str(load_error("unknown_keys.toml")).split("\n") == expected
+    code, _, err = cli(capsys, "check", path)
+    assert code == 2 and lines(err) == expected
+
+
+def test_unknown_keyword_in_contacts_and_simulation(tmp_path):
+    text = (DATA / "pendulum_xy.toml").read_text() + (
+        '\n[[contacts]]\nname = "floor"\ngap = "y + 1"\nslip = ["x\'"]\nmu = 0.3\nmus = 0.4\n')
+    text = text.replace("t_end = 1.0", "t_end = 1.0\nrtoll = 1e-9")
+    path = tmp_path / "keys.toml"
+    path.write_text(text)
+    message = str(pytest.raises(ModelError, load_model, path).value)
+    assert "[simulation]: unknown key 'rtoll' (did you mean 'rtol'?)" in message
+    assert "[[contacts]] #1 'floor': unknown key 'mus' (did you mean 'mu'?)" in message
+
+
+def test_malformed_expressions_key_and_column(capsys):
+    path = DATA / "malformed_expression.toml"
+    p = f"{path}: "
+    expected = [
+        p + "[energy] kinetic: malformed expression at column 11: expected a number, a name "
+            "or '(' but found '*'",
+        "    m/2*x'^2 +* 3",
+        "              ^",
+        p + "[energy] potential: malformed expression at column 5: '(' is never closed",
+        "    m*g*(x + 1",
+        "        ^",
+    ]
+    assert str(load_error("malformed_expression.toml")).split("\n") == expected
+    code, _, err = cli(capsys, "check", path)
+    assert code == 2 and lines(err) == expected
+
+
+def test_wrong_toml_syntax(capsys):
+    path = DATA / "bad_toml.toml"
+    message = str(load_error("bad_toml.toml"))
+    first = message.split("\n")[0]
+    assert first == (f"{path}: not valid TOML: Expected ']' at the end of a table declaration "
+                     "(at line 1, column 7)")
+    assert "    line 1: [model\n" in message
+    code, out, err = cli(capsys, "simulate", path)
+    assert code == 2 and out == "" and lines(err)[0] == first
+
+
+def test_missing_model_file(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(DATA)
+    with pytest.raises(ModelError) as info:
+        load_model("pendulum_yx.toml")
+    assert str(info.value).startswith("model file not found: pendulum_yx.toml; check the path")
+    code, _, err = cli(capsys, "check", "pendulum_yx.toml")
+    assert code == 2
+    assert lines(err)[0].startswith("model file not found: pendulum_yx.toml (did you mean "
+                                    "'pendulum_xy.toml'?); check the path")
+    code, _, err = cli(capsys, "simulate", tmp_path / "nowhere.toml")
+    assert code == 2 and "model file not found" in err
+
+
+def test_format_version_mismatch(capsys):
+    path = DATA / "format_2.toml"
+    expected = (f"{path}: [model] format: this version of nonideal reads model files of format "
+                "1, the file declares format = 2; it was written for a newer nonideal: upgrade "
+                "nonideal")
+    assert str(load_error("format_2.toml")) == expected
+    code, _, err = cli(capsys, "check", path)
+    assert code == 2 and lines(err) == [expected]
+
+
+@pytest.mark.parametrize("change, message", [
+    (("unilateral = false", 'unilateral = "yes"'),
+     "[[constraints]] #1 'rod': unilateral must be true or false (got 'yes')"),
+    (('expr = "x^2 + y^2 - l^2"', "expr = true"),
+     "[[constraints]] #1 'rod': expr must be an expression in quotes or a number (got a boolean True)"),
+    (('q = ["x", "y"]', 'q = "x"'),
+     "[coordinates] q: must be a list of names in quotes, e.g. q = [\"x\", \"theta\"] (got a string 'x')"),
+    (("t_end = 1.0", 't_end = "1"'),
+     "[simulation]: t_end must be a number (got '1')"),
+    (("t_end = 1.0", "t_end = 1.0\nt0 = \"zero\""),
+     "[simulation]: t0 must be a number (got 'zero')"),
+    (("m = 1.0", 'm = "1.0"'),
+     "[parameters] m: value must be a finite number (got '1.0')"),
+    (("m = 1.0", 'm = {value = 1.0, units = "kg"}'),
+     "[parameters] m: unknown key 'units' (did you mean 'unit'?)"),
+    (("unilateral = false", 'reaction = "0"'),
+     "[[constraints]] #1 'rod': reaction must be a list of expressions"),
+    (("unilateral = false", 'reaction = ["0", "1", "2"]'),
+     "[[constraints]] #1 'rod': reaction must have 2 entries (got 3)"),
+    (("unilateral = false", "restitution = 2"),
+     "[[constraints]] #1 'rod': restitution must be a number in [0.0, 1.0] (got 2)"),
+    (('type = "holonomic"', 'type = "holonomc"'),
+     "constraint 'rod': type 'holonomc' unknown (did you mean 'holonomic'?); use holonomic, "
+     "nonholonomic or servo"),
+    (("t_end = 1.0", 't_end = 1.0\nmethod = "rk45"'),
+     "[simulation] method: 'rk45' unknown (did you mean 'RK45'?)"),
+    (('"x\'" = 0.0', '"xx\'" = 0.0'),
+     "[initial] xx': not a coordinate or velocity (did you mean 'x''?)"),
+])
+def test_wrong_values_are_named(tmp_path, change, message):
+    text = (DATA / "pendulum_xy.toml").read_text().replace(
+        'expr = "x^2 + y^2 - l^2"', 'expr = "x^2 + y^2 - l^2"\nunilateral = false')
+    assert change[0] in text
+    path = tmp_path / "model.toml"
+    path.write_text(text.replace(change[0], change[1], 1))
+    with pytest.raises(ModelError) as info:
+        load_model(path)
+    assert any(message in p for p in info.value.problems), info.value.problems
+    assert str(info.value).startswith(f"{path}: ")
+
+
+def test_structural_and_expression_problems_reported_together(tmp_path):
+    text = (DATA / "typo_thetta.toml").read_text().replace("[energy]", "[energy]\nkinetik = \"0\"")
+    path = tmp_path / "both.toml"
+    path.write_text(text)
+    problems = pytest.raises(ModelError, load_model, path).value.problems
+    assert any("unknown key 'kinetik' (did you mean 'kinetic'?)" in p for p in problems)
+    assert any("unknown symbol 'thetta' (did you mean 'theta'?)" in p for p in problems)
+
+
+def test_identically_zero_constraint(capsys):
+    path = DATA / "zero_constraint.toml"
+    expected = (f"{path}: constraint 'nothing': expr 'x - x' is identically zero, so it "
+                "constrains nothing; correct the expression or remove the constraint")
+    assert str(load_error("zero_constraint.toml")) == expected
+    code, _, err = cli(capsys, "check", path)
+    assert code == 2 and lines(err) == [expected]
+    with pytest.raises(ModelError) as info:
+        Model(name="api", coordinates=["x", "y"], parameters={"m": 1.0},
+              kinetic="m/2*(x'^2 + y'^2)",
+              constraints=[Constraint.holonomic("trig", "sin(x)^2 + cos(x)^2 - 1")])
+    assert "constraint 'trig': expr 'sin(x)^2 + cos(x)^2 - 1' is identically zero" in str(info.value)
+
+
+def test_malicious_model_file_runs_nothing(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    path = tmp_path / "malicious.toml"
+    path.write_text((DATA / "malicious.toml").read_text())
+    code, out, err = cli(capsys, "simulate", path, "--json", "out.json")
+    assert code == 2 and out == ""
+    assert "[energy] kinetic: malformed expression at column 12" in err
+    assert "[energy] potential: malformed expression at column 8: ':' is not allowed" in err
+    assert "[forces] x: malformed expression" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["malicious.toml"]
