@@ -229,7 +229,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
 
     header = table("model")
     fmt = header.get("format", FORMAT_VERSION)
-    if not _is_number(fmt) or fmt != int(fmt):
+    if not isinstance(fmt, int) or isinstance(fmt, bool):
         problems.append(f"[model] format: must be an integer, the model file format version "
                         f"(got {fmt!r}); this version of nonideal reads format = {FORMAT_VERSION}")
     elif fmt != FORMAT_VERSION:
@@ -329,7 +329,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
         bilateral = check.boolean(c, "bilateral", where)
         e = check.number(c, "restitution", where, 0.0, 0.0, 1.0)
         law = c.get("friction", "coulomb")
-        if law not in FRICTION_LAWS:
+        if not isinstance(law, str) or law not in FRICTION_LAWS:
             problems.append(f"{where}: friction {law!r} unknown"
                             f"{did_you_mean(str(law), FRICTION_LAWS)}; use \"coulomb\", "
                             "\"regularized\" or \"linearized\"")
@@ -360,7 +360,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     for k, b in enumerate(_array_of_tables(data, "bodies", problems)):
         kind = b.get("type", "particle")
         where = f"[[bodies]] #{k + 1}" + (f" '{b.get('name')}'" if "name" in b else "")
-        if kind not in BODY_KEYS:
+        if not isinstance(kind, str) or kind not in BODY_KEYS:
             problems.append(f"{where}: type {kind!r} unknown{did_you_mean(str(kind), BODY_KEYS)}; "
                             "use \"particle\", \"planar\" or \"rigid\"")
             continue
@@ -389,7 +389,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     for k, ld in enumerate(_array_of_tables(data, "loads", problems)):
         kind = ld.get("type", "force")
         where = f"[[loads]] #{k + 1}" + (f" '{ld.get('name')}'" if "name" in ld else "")
-        if kind not in LOAD_KEYS:
+        if not isinstance(kind, str) or kind not in LOAD_KEYS:
             problems.append(f"{where}: type {kind!r} unknown{did_you_mean(str(kind), LOAD_KEYS)}; "
                             "use \"force\" or \"torque\"")
             continue
