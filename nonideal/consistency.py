@@ -91,6 +91,8 @@ def _newton(levels: _Levels, rows: list[int], unknown: list[int], t, q, qd, leve
     for _ in range(max_iter):
         G, pos, vel = levels(t, q, qd)
         res = (pos if level == "pos" else vel)[rows]
+        if not (np.all(np.isfinite(res)) and np.all(np.isfinite(G[rows]))):
+            return q, qd, False    # left the domain of a constraint (sqrt, log, ...)
         if np.max(np.abs(res)) < NEWTON_TOL * _scale(q if level == "pos" else qd):
             return q, qd, True
         step, *_ = np.linalg.lstsq(G[rows][:, unknown], -res, rcond=None)
@@ -175,6 +177,7 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
                 _missing_positions(levels, pos_rows, miss_q, miss_v, t0, q, qd, ok),
                 _src(model))
     G, pos, vel = levels(t0, q, qd)
+    _require_finite(levels, G, pos, vel, t0, q, model)
     scale = _scale(q)
     problems = []
     for i in pos_rows:
@@ -229,6 +232,24 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     qd = _project(levels, vel_eq, t0, q, qd, "vel")
     closed_constraints = [rows[i].index for i in closed if rows[i].kind == "constraint"]
     return q, qd, closed_constraints
+
+
+def _require_finite(levels, G, pos, vel, t, q, model) -> None:
+    """Every constraint row must have a finite value and gradient at the initial state."""
+    problems = []
+    names = list(model.coordinates)
+    state = ", ".join(f"{c} = {float(v):.6g}" for c, v in zip(names, q))
+    for i, row in enumerate(levels.rows):
+        values = [pos[i], vel[i], *G[i]]
+        if not all(np.isfinite(values)):
+            what = "contact" if row.kind == "contact" else "constraint"
+            problems.append(
+                f"[initial]: {what} '{row.name}' cannot be evaluated at the initial state "
+                f"(t = {float(t):.6g}, {state}): its value or gradient is not a finite number "
+                "(a square root or logarithm of a negative number, a division by zero, or "
+                "asin/acos beyond [-1, 1]); give initial values inside its domain or rewrite it")
+    if problems:
+        raise InconsistentInitialConditions(problems, _src(model))
 
 
 def _undetermined(levels, rows, unknown, t, q, qd) -> int:
