@@ -434,6 +434,17 @@ class _Normalizer:
     def energy_and_forces(self) -> None:
         m = self.m
         kin = self.expr(m.kinetic, "[energy] kinetic", 1)
+        if kin is not None:
+            velocities = set(m.qd)
+            rough = sorted({str(f) for f in kin.atoms(sp.Abs, sp.sign, sp.Min, sp.Max)
+                            if f.free_symbols & velocities})
+            if rough:
+                self.problems.append(
+                    f"[energy] kinetic: {', '.join(rough)} is not differentiable in the "
+                    "velocities; the kinetic energy must be smooth in the velocities (the "
+                    "equations of motion use its second derivatives), e.g. m/2*x'^2 instead "
+                    "of m/2*abs(x')^2")
+                kin = None
         pot = self.expr(m.potential, "[energy] potential", 0)
         self.set("kinetic", kin if kin is not None else sp.Integer(0))
         self.set("potential", pot if pot is not None else sp.Integer(0))
