@@ -174,3 +174,37 @@ def test_integration_failure_time_and_reason(capsys, tmp_path):
 def test_painleve_and_friends_keep_exit_code_3():
     assert MechanicsError("x").exit_code == 3
     assert issubclass(SingularSystem, ModelError) and SingularSystem("x").exit_code == 2
+
+
+def test_painleve_paradox_exit_code_3_with_explanation(capsys, tmp_path):
+    import math
+
+    from nonideal.errors import PainleveParadox
+
+    path = DATA / "painleve_rod_paradox.toml"
+    with pytest.raises(PainleveParadox) as info:
+        evaluate(load_model(path))
+    exc = info.value
+    assert exc.exit_code == 3 and exc.t == 0.0
+    critical = (1 + 3 * math.cos(0.8)**2) / (3 * math.sin(0.8) * math.cos(0.8))
+    assert float(exc.details["floor: critical friction coefficient"]) == pytest.approx(critical, rel=1e-5)
+    for command in ("evaluate", "simulate"):
+        code, out, err = cli(capsys, command, path, "--json", tmp_path / "out.json")
+        assert code == 3 and out == "", command
+        assert err.startswith("mechanics: Painleve paradox (inconsistency) at contact(s) floor")
+        assert "  at t = 0\n" in err and "floor: critical friction coefficient: 1.63817" in err
+        assert not (tmp_path / "out.json").exists()
+
+
+def test_constraint_outside_its_domain_at_the_initial_state(capsys, tmp_path):
+    text = (DATA / "pendulum_xy.toml").read_text().replace('"x^2 + y^2 - l^2"', '"sqrt(-x) - 1"')
+    text = text.replace("y = -0.8\n", "y = -0.8\n\"y'\" = 0.0\n")
+    path = tmp_path / "domain.toml"
+    path.write_text(text)
+    expected = (f"error: {path}: [initial]: constraint 'rod' cannot be evaluated at the initial "
+                "state (t = 0, x = 0.6, y = -0.8): its value or gradient is not a finite number (a "
+                "square root or logarithm of a negative number, a division by zero, or asin/acos "
+                "beyond [-1, 1]); give initial values inside its domain or rewrite it\n")
+    for command in ("check", "evaluate", "simulate"):
+        code, out, err = cli(capsys, command, path)
+        assert (code, out, err) == (2, "", expected), command

@@ -271,3 +271,50 @@ def test_malicious_model_file_runs_nothing(capsys, tmp_path, monkeypatch):
     assert "[energy] potential: malformed expression at column 8: ':' is not allowed" in err
     assert "[forces] x: malformed expression" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["malicious.toml"]
+
+
+def test_any_wrong_type_anywhere_is_a_model_error():
+    """Replace every value of a model file (each key, each list entry) by values of the
+    wrong type: the loader reports a ModelError, never another exception."""
+    import copy
+    import tomllib
+
+    from nonideal.modelfile import model_from_dict
+
+    data = tomllib.loads((DATA / "painleve_rod_paradox.toml").read_text())
+    data["constraints"] = [{"name": "c", "expr": "x - 1", "reaction": ["0", "1", "0"]}]
+    data["bodies"] = [{"type": "particle", "name": "p", "mass": "m", "position": ["x", "y"]}]
+
+    def paths(node, prefix=()):
+        items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
+        for key, value in items:
+            yield prefix + (key,)
+            yield from paths(value, prefix + (key,))
+
+    wrong = [True, -1, 1.5, float("nan"), "", "1/0", "x", [], ["a"], {}, {"a": 1}, [[1]]]
+    count = 0
+    for path in list(paths(data)):
+        for value in wrong:
+            mutated = copy.deepcopy(data)
+            node = mutated
+            for key in path[:-1]:
+                node = node[key]
+            node[path[-1]] = value
+            try:
+                model_from_dict(mutated, "fuzz.toml")
+            except ModelError as exc:
+                assert str(exc).startswith("fuzz.toml: ")
+            count += 1
+    assert count > 300
+
+
+def test_kinetic_energy_must_be_smooth_in_the_velocities(tmp_path):
+    text = (DATA / "pendulum_xy.toml").read_text().replace('"m/2*(x\'^2 + y\'^2)"',
+                                                          '"m/2*(abs(x\')*x\' + y\'^2)"')
+    path = tmp_path / "rough.toml"
+    path.write_text(text)
+    message = str(pytest.raises(ModelError, load_model, path).value)
+    assert message == (f"{path}: [energy] kinetic: Abs(x') is not differentiable in the "
+                       "velocities; the kinetic energy must be smooth in the velocities (the "
+                       "equations of motion use its second derivatives), e.g. m/2*x'^2 instead "
+                       "of m/2*abs(x')^2")
