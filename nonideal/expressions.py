@@ -423,6 +423,16 @@ class _Parser:
     def unknown_error(self) -> ExpressionError:
         candidates = [n for n in self.names if not n.endswith("'")] + list(CONSTANTS)
         candidates += [n for n in self.names if n.endswith("'")]
-        problems = [f"{self.where}: unknown symbol '{name}'{did_you_mean(name, candidates)}"
-                    for name in self.unknown]
+        coordinates = [n[:-1] for n in self.names if n.endswith("'") and not n.endswith("''")]
+        problems = []
+        for name in self.unknown:
+            base = name.rstrip("'")
+            if base != name:
+                problems.append(
+                    f"{self.where}: unknown symbol {name}: '{base}' is not a coordinate"
+                    f"{did_you_mean(base, coordinates)}; only coordinates have derivatives"
+                    + (f" ({', '.join(coordinates)})" if coordinates else ""))
+            else:
+                problems.append(f"{self.where}: unknown symbol '{name}'"
+                                f"{did_you_mean(name, candidates)}")
         return ExpressionError(problems, unknown=[(name, self.where) for name in self.unknown])

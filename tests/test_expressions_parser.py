@@ -125,3 +125,13 @@ def test_exponent_limit():
 ])
 def test_wrong_types(value, what):
     assert what in str(error(value))
+
+
+def test_derivative_of_an_unknown_coordinate():
+    err = error("m*thetta'^2 + z'")
+    assert err.problems == [
+        "[energy] kinetic: unknown symbol thetta': 'thetta' is not a coordinate (did you mean "
+        "'theta'?); only coordinates have derivatives (x, theta)",
+        "[energy] kinetic: unknown symbol z': 'z' is not a coordinate; only coordinates have "
+        "derivatives (x, theta)",
+    ]
