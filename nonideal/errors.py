@@ -121,11 +121,23 @@ class IntegrationFailed(ModelError):
         self.t, self.mode, self.reason = float(t), mode, reason
         super().__init__(
             f"integration failed at t = {t:.10g} in mode [{mode}]: {_explain_reason(reason)}. "
-            f"Fix: simulate to an earlier end time (--t-end below {t:.6g} or [simulation] "
-            "t_end), use method = \"Radau\" in [simulation] if the problem is stiff, or "
-            "change rtol/atol in [simulation]",
+            f"Fix: {_advice(reason, t)}",
             source,
         )
+
+
+def _advice(reason: str, t: float) -> str:
+    """What to try, given the integrator's reason."""
+    earlier = f"simulate to an earlier end time (--t-end below {t:.6g} or [simulation] t_end)"
+    text = (reason or "").lower()
+    if "mode switches" in text or "zeno" in text:
+        return (f"{earlier}; impacts that repeat without end (Zeno) stop with restitution = 0 "
+                "(plastic), chattering contacts with a regularized friction law "
+                "(friction = \"regularized\", eps)")
+    if "not smooth" in text or "collapsed" in text:
+        return f"{earlier}, or make the right-hand side smooth there (see the reason)"
+    return (f"{earlier}, use method = \"Radau\" in [simulation] if the problem is stiff, or "
+            "change rtol/atol in [simulation]")
 
 
 def _explain_reason(reason: str) -> str:

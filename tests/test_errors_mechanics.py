@@ -208,3 +208,20 @@ def test_constraint_outside_its_domain_at_the_initial_state(capsys, tmp_path):
     for command in ("check", "evaluate", "simulate"):
         code, out, err = cli(capsys, command, path)
         assert (code, out, err) == (2, "", expected), command
+
+
+@pytest.mark.parametrize("reason, advice", [
+    ("Required step size is less than spacing between numbers.",
+     "use method = \"Radau\" in [simulation] if the problem is stiff"),
+    ("more than 10000 mode switches (chattering or Zeno behaviour)",
+     "impacts that repeat without end (Zeno) stop with restitution = 0"),
+    ("the step size collapsed below 1e-9 of the time span for 2000 steps: the right-hand side "
+     "is not smooth here", "make the right-hand side smooth there"),
+])
+def test_integration_failed_advice_fits_the_reason(reason, advice):
+    exc = IntegrationFailed(1.25, "floor:slide+", reason, "model.toml")
+    message = str(exc)
+    assert message.startswith("model.toml: integration failed at t = 1.25 in mode [floor:slide+]: ")
+    assert "Fix: simulate to an earlier end time (--t-end below 1.25 or [simulation] t_end)" in message
+    assert advice in message and ".." not in message
+    assert (exc.t, exc.mode, exc.reason) == (1.25, "floor:slide+", reason)
