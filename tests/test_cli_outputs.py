@@ -191,3 +191,21 @@ def test_end_to_end_usage_error_and_mechanics_exit_codes(tmp_path):
     assert proc.returncode == 2
     assert proc.stderr == (f"error: {DATA / 'typo_thetta.toml'}: constraint 'knife_edge': expr: "
                            "unknown symbol 'thetta' (did you mean 'theta'?)\n")
+
+
+def test_contact_keys_in_simulate_and_evaluate_json(capsys):
+    path = DATA / "painleve_rod_sliding.toml"
+    code, out, err = cli(capsys, "simulate", path, "--times", "0,0.05,0.1", "--json")
+    assert code == 0, err
+    result = json.loads(out)
+    floor = result["contacts"]["floor"]
+    assert {"normal", "friction", "slip", "mode"} <= set(floor)
+    assert len(floor["normal"]) == len(floor["mode"]) == 3
+    assert floor["mode"][0].startswith("slide")
+    event = result["events"][0]
+    assert {"t", "type", "contact"} <= set(event) and event["contact"] == "floor"
+    code, out, err = cli(capsys, "evaluate", path, "--json")
+    assert code == 0, err
+    contact = json.loads(out)["contacts"]["floor"]
+    assert {"mode", "normal", "friction", "slip"} <= set(contact)
+    assert contact["normal"] > 0
