@@ -262,5 +262,18 @@ def explain_mechanics_error(model: Model, exc: MechanicsError) -> Exception:
     """
     if isinstance(exc, PainleveParadox):
         return exc
-    found = diagnose_initial_state(model)
+    found = None
+    names = list(model.coordinates)
+    if exc.t is not None and all(c in exc.state and c + "'" in exc.state for c in names):
+        q = np.array([exc.state[c] for c in names], dtype=float)
+        qd = np.array([exc.state[c + "'"] for c in names], dtype=float)
+        found = diagnose_state(model, exc.t, q, qd)
+        if found is not None and diagnose_initial_state(model) is None:
+            return SingularSystem(
+                [p + "; the equations are regular at the initial state, so this is a singular "
+                 "configuration of the coordinates or constraints (like r = 0 in polar "
+                 "coordinates): choose another state or other coordinates" for p in found.problems],
+                found.source)
+    if found is None:
+        found = diagnose_initial_state(model)
     return found if found is not None else exc

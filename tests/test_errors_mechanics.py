@@ -225,3 +225,17 @@ def test_integration_failed_advice_fits_the_reason(reason, advice):
     assert "Fix: simulate to an earlier end time (--t-end below 1.25 or [simulation] t_end)" in message
     assert advice in message and ".." not in message
     assert (exc.t, exc.mode, exc.reason) == (1.25, "floor:slide+", reason)
+
+
+def test_singular_configuration_away_from_the_initial_state(capsys):
+    path = DATA / "polar_coordinates.toml"
+    assert cli(capsys, "check", path)[0] == 0
+    code, out, err = cli(capsys, "evaluate", path, "--at", "r=0, phi=0, r'=1, phi'=0")
+    assert code == 2 and out == ""
+    assert err == (f"error: {path}: singular mass matrix at t = 0 (r = 0, phi = 0): the kinetic "
+                   "energy does not depend on phi', so coordinate 'phi' has no inertia and its "
+                   "acceleration is undetermined; give it inertia (a mass or moment of inertia in "
+                   "[energy] kinetic or [[bodies]]), constrain it with a [[constraints]] block, or "
+                   "remove the coordinate; the equations are regular at the initial state, so "
+                   "this is a singular configuration of the coordinates or constraints (like r = 0 "
+                   "in polar coordinates): choose another state or other coordinates\n")
