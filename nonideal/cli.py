@@ -414,7 +414,8 @@ def build_parser() -> argparse.ArgumentParser:
         sp.add_argument("--json", nargs="?", const="-", metavar="OUT",
                         help="machine-readable output (to OUT, or standard output)")
 
-    c = sub.add_parser("check", help="parse and validate a model; degrees of freedom, constraints, determinacy",
+    c = sub.add_parser("check",
+                       help="parse and validate a model; degrees of freedom, constraints, determinacy",
                        description="Parse and validate a model; print degrees of freedom, "
                        "constraints, contacts and determinacy, and check the initial state.")
     c.add_argument("model", help="model file (TOML) or gallery example name")

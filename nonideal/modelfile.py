@@ -26,7 +26,7 @@ from typing import Any
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
 from .errors import ModelError, did_you_mean
-from .model import Constraint, Model, SimulationSettings
+from .model import Constraint, Model
 
 __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
 
