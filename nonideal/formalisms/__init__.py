@@ -1,7 +1,17 @@
 """The classical forms of the equations of motion, one module each.
 
 :func:`derive` is the entry point: ``derive(model, "maggi")`` returns an
-:class:`~nonideal.eom.EquationsOfMotion`.  :data:`FORMS` maps the CLI names to the classes.
+:class:`~nonideal.eom.EquationsOfMotion`.  :data:`FORMS` maps the CLI names to the classes:
+
+=============  ===========================================================================
+``lagrange1``  Lagrange I: every constraint keeps its multiplier (:mod:`.lagrange1`)
+``lagrange2``  Lagrange II: holonomic constraints eliminated by minimal coordinates, the
+               other constraints with multipliers, Routh--Voss (:mod:`.lagrange2`)
+``maggi``      Maggi: the dynamics projected on the possible velocities (:mod:`.maggi`)
+=============  ===========================================================================
+
+The ideal constraints disappear from the reduced forms; non-ideal ones (servo, quasi-ideal,
+sliding friction) keep their multipliers in every form.
 """
 
 from __future__ import annotations
@@ -12,12 +22,14 @@ from ..errors import FormNotApplicable, did_you_mean
 from ..model import Model
 from .base import Formalism
 from .lagrange1 import Lagrange1
+from .lagrange2 import Lagrange2
 from .maggi import Maggi
 
 __all__ = ["FORMS", "derive", "Formalism"]
 
 FORMS: dict[str, type[Formalism]] = {
     "lagrange1": Lagrange1,
+    "lagrange2": Lagrange2,
     "maggi": Maggi,
 }
 
