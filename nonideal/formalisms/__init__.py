@@ -8,6 +8,7 @@
 ``lagrange2``  Lagrange II: holonomic constraints eliminated by minimal coordinates, the
                other constraints with multipliers, Routh--Voss (:mod:`.lagrange2`)
 ``maggi``      Maggi: the dynamics projected on the possible velocities (:mod:`.maggi`)
+``appell``     Gibbs--Appell: derivatives of the acceleration energy (:mod:`.appell`)
 =============  ===========================================================================
 
 The ideal constraints disappear from the reduced forms; non-ideal ones (servo, quasi-ideal,
@@ -20,6 +21,7 @@ from ..dynamics import ConstraintRow, dynamics_of
 from ..eom import EquationsOfMotion
 from ..errors import FormNotApplicable, did_you_mean
 from ..model import Model
+from .appell import Appell
 from .base import Formalism
 from .lagrange1 import Lagrange1
 from .lagrange2 import Lagrange2
@@ -31,6 +33,7 @@ FORMS: dict[str, type[Formalism]] = {
     "lagrange1": Lagrange1,
     "lagrange2": Lagrange2,
     "maggi": Maggi,
+    "appell": Appell,
 }
 
 

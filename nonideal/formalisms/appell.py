@@ -1,0 +1,100 @@
+"""The Gibbs--Appell equations: derivatives of the acceleration energy in the independent accelerations.
+
+With the ideal constraints solved for the dependent velocities (``reduce_velocities``), every
+acceleration compatible with the constraints is ``q'' = V p' + w``, where ``p'`` are the
+accelerations of the independent coordinates (symbols named like their ``q''``).  The
+acceleration energy ``S`` of the kernel (genuine ``sum m a^2/2 + ...`` from the bodies, or
+from Appell's identity ``dS/dq'' = d/dt dT/dq' - dT/dq`` for a kinetic energy given as an
+expression) becomes, after this substitution, ``S'(p')`` -- the acceleration energy "composed
+with the constraints" of seed 000 -- and the equations are
+
+    dS'/dp'_j = Pi_j + sum_k B_jk mu_k,          Pi = V^T Q,
+
+for the independent ``j``.  ``S'`` is quadratic in ``p'``: ``A`` is its Hessian and ``c`` its
+gradient at ``p' = 0``, both obtained by differentiating ``S'`` (SymEngine), not by
+projecting the mass matrix.  Ideal constraints (holonomic, linear or nonlinear nonholonomic
+by Chetaev's rule) disappear; non-ideal ones (servo, quasi-ideal, sliding friction) keep
+their multipliers and rows ``G V p' + G w + gamma = 0`` exactly as in Maggi's form
+(``project_rows``).
+
+Code names: ``S`` in ``extras`` is ``S'`` (printed when small), ``A = d2S'/dp'2``,
+``c = dS'/dp'|_{p'=0}``, ``Q_f = Pi = V^T Q`` (generalized forces of the quasi-velocities).
+
+Sources: P. Appell, C. R. Acad. Sci. 129 (1899) 317-320, 423-427, 459-460 and J. reine angew.
+Math. 121 (1900) 310-319; J. W. Gibbs (1879); Manglieva & Beknazarov 2022, (1.65) (there with
+the friction forces ``(R^r_j)'``; here the non-ideal rows).
+"""
+
+from __future__ import annotations
+
+import symengine as se
+
+from ..dynamics import count_ops
+from ..eom import EquationsOfMotion
+from .base import Formalism, project_rows, reduce_velocities, split_rows, transpose_times
+
+__all__ = ["Appell", "reduced_acceleration_energy"]
+
+PRINT_MAX_OPS = 300  # S' is kept in extras (and printed) only below this size (count_ops)
+
+
+def reduced_acceleration_energy(dyn, red):
+    """``S'(p')``: the kernel's acceleration energy with ``q''_d = sum_c V_dc p'_c + w_d``.
+
+    The independent accelerations are their own ``p'`` (``V`` has unit rows there and ``w``
+    zeros), so only the dependent ones are substituted.
+    """
+    p = [dyn.qdd[j] for j in red.independent]
+    subs = {}
+    for d in red.dependent:
+        acc = sum((red.V[d, c] * p[c] for c in range(len(p)) if red.V[d, c] != 0), se.Integer(0))
+        subs[dyn.qdd[d]] = acc + red.w[d, 0]
+    S = se.sympify(dyn.S)
+    return S.subs(subs) if subs else S
+
+
+class Appell(Formalism):
+    name = "appell"
+    title = "Gibbs-Appell equations (acceleration energy)"
+    citation = ("Appell 1899, 1900; Gibbs 1879; Manglieva & Beknazarov 2022, (1.65): "
+                "dS'/dp'_j = Q'_j (+ reactions of the non-ideal constraints)")
+
+    def derive(self, dyn, rows, independent):
+        ideal, kept = split_rows(rows)
+        red = reduce_velocities(dyn, ideal, independent)
+        n, k = dyn.n, len(red.independent)
+        p = [dyn.qdd[j] for j in red.independent]
+        S = reduced_acceleration_energy(dyn, red)
+        grad = [se.diff(S, pj) for pj in p]
+        zero = {pj: se.Integer(0) for pj in p}
+        c = se.zeros(k, 1)
+        A = se.zeros(k, k)
+        for i in range(k):
+            c[i, 0] = grad[i].subs(zero)
+            for j in range(i, k):
+                A[i, j] = se.diff(grad[i], p[j])
+                A[j, i] = A[i, j]
+        Qf = transpose_times(red.V, dyn.Q, n, k)
+        G, gamma, B = project_rows(kept, red, n)
+        coords = dyn.model.coordinates
+        notes = ["quasi-accelerations p' = " + ", ".join(coords[j] + "''" for j in red.independent)
+                 + " (accelerations of the independent coordinates)"]
+        if ideal:
+            notes.append("S' = S with the dependent accelerations "
+                         + ", ".join(coords[d] + "''" for d in red.dependent)
+                         + " eliminated by the constraints " + ", ".join(r.name for r in ideal))
+        if kept:
+            notes.append("multipliers kept for the non-ideal constraints " + ", ".join(r.name for r in kept))
+        extras = {}
+        if count_ops([S]) <= PRINT_MAX_OPS:
+            extras["S"] = S
+        return EquationsOfMotion(
+            form=self.name, title=self.title, citation=self.citation, model=dyn.model,
+            unknowns=tuple(coords[j] + "''" for j in red.independent),
+            multipliers=tuple(f"lambda_{r.name}" for r in kept),
+            constraint_names=tuple(r.name for r in kept), rows=tuple(rows),
+            independent=tuple(coords[j] for j in red.independent),
+            A_=A, c_=c, Qf_=Qf, B_=B, G_=G, gamma_=gamma, R_=red.V, r_=red.w,
+            auxiliaries=red.auxiliaries, extras_=extras, notes=tuple(notes),
+            eliminated=tuple(r.name for r in ideal),
+        )
