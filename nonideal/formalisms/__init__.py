@@ -9,6 +9,8 @@
                other constraints with multipliers, Routh--Voss (:mod:`.lagrange2`)
 ``maggi``      Maggi: the dynamics projected on the possible velocities (:mod:`.maggi`)
 ``appell``     Gibbs--Appell: derivatives of the acceleration energy (:mod:`.appell`)
+``shulgin``    Shulgin: redundant coordinates kept, dependent velocities eliminated,
+               Voronets' terms for nonholonomic constraints (:mod:`.shulgin`)
 =============  ===========================================================================
 
 The ideal constraints disappear from the reduced forms; non-ideal ones (servo, quasi-ideal,
@@ -26,6 +28,7 @@ from .base import Formalism
 from .lagrange1 import Lagrange1
 from .lagrange2 import Lagrange2
 from .maggi import Maggi
+from .shulgin import Shulgin
 
 __all__ = ["FORMS", "derive", "Formalism"]
 
@@ -34,6 +37,7 @@ FORMS: dict[str, type[Formalism]] = {
     "lagrange2": Lagrange2,
     "maggi": Maggi,
     "appell": Appell,
+    "shulgin": Shulgin,
 }
 
 

@@ -30,7 +30,7 @@ from ..dynamics import ConstraintRow, Dynamics, count_ops
 from ..eom import Auxiliary, EquationsOfMotion
 from ..errors import FormNotApplicable, SingularSystem, did_you_mean
 
-__all__ = ["Formalism", "Reduction", "reduce_velocities", "split_rows", "numeric_instances"]
+__all__ = ["Formalism", "Reduction", "reduce_velocities", "split_rows", "numeric_instances", "vanishing"]
 
 
 class Formalism:
@@ -305,4 +305,52 @@ def transpose_times(V, x, n: int, k: int):
     out = se.zeros(k, 1)
     for c in range(k):
         out[c, 0] = sum((V[i, c] * x[i] for i in range(n) if V[i, c] != 0 and x[i] != 0), se.Integer(0))
+    return out
+
+
+def vanishing(dyn: Dynamics, groups: list[list], count: int = 4, seed: int = 11,
+              rtol: float = 1e-9) -> list[bool]:
+    """Which sums vanish identically, judged at *count* generic points.
+
+    Each group lists the terms of one sum.  A sum is taken as zero when, at every generic
+    point (random ``q, q', q'', t``; the parameter values) where its terms are finite,
+    ``|sum| <= rtol * sum |term|`` -- complex values included (a square root of a negative
+    number at a random point is no reason to keep a term) -- and at least two points were
+    informative.  A group of symbolically zero terms is zero.  Cheap: one compiled complex
+    evaluation of all terms, no simplification.
+    """
+    exprs = [[se.sympify(e) for e in g] for g in groups]
+    zero = [all(e == 0 for e in g) for g in exprs]
+    flat = [e for g, z in zip(exprs, zero) if not z for e in g]
+    if not flat:
+        return zero
+    rng = random.Random(seed)
+    syms = dyn.q + dyn.qd + dyn.qdd + [dyn.t]
+    fn = se.Lambdify(syms + dyn.params, flat, real=False, cse=False)
+    pvals = list(dyn.model.parameter_values.values())
+    values = []
+    for _ in range(count):
+        point = [rng.uniform(0.2, 1.1) * rng.choice((-1, 1)) for _ in syms] + pvals
+        values.append(np.asarray(fn(np.array(point, dtype=complex)), dtype=complex).ravel())
+    out = []
+    pos = 0
+    for g, z in zip(exprs, zero):
+        if z:
+            out.append(True)
+            continue
+        sl = slice(pos, pos + len(g))
+        pos += len(g)
+        ok, informative = True, 0
+        for vals in values:
+            v = vals[sl]
+            if not np.all(np.isfinite(v)):
+                continue
+            mag = float(np.sum(np.abs(v)))
+            if mag == 0.0:
+                continue
+            informative += 1
+            if abs(np.sum(v)) > rtol * mag:
+                ok = False
+                break
+        out.append(ok and informative >= 2)
     return out
