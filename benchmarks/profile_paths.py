@@ -102,7 +102,7 @@ def derive_path(label, make, form):
     t0 = time.perf_counter()
     with Timers() as tm:
         tm.wrap(nmodel, "parse_expression", "Model: parse expressions (safe parser -> SymPy)")
-        tm.wrap(nmodel, "_identically_zero", "Model: _identically_zero (expand + 4 evalf)")
+        tm.wrap(nmodel, "_identically_zero", "Model: _identically_zero (4 evalf at random points)")
         tm.wrap(fbase, "numeric_instances", "derive: numeric_instances (xreplace + n() per entry)")
         tm.wrap(fbase, "_symbolic_solve", "derive: symbolic solve of the dependent block")
         tb = time.perf_counter()
