@@ -192,6 +192,11 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     """
     from .switching import select_mode, validate_contacts
 
+    allowed = set(model.coordinates) | {c + "'" for c in model.coordinates}
+    bad = [k for k in (at or {}) if k not in allowed]
+    if bad:
+        raise ModelError([f"at: '{k}' is not a coordinate or velocity{did_you_mean(k, allowed)}"
+                          for k in bad], None if model.source == "<api>" else model.source)
     kernel = kernel_of(model)
     params = parameter_vector(model, parameters)
     t = model.t0 if t is None else float(t)

@@ -134,6 +134,18 @@ class Jam(ContactEvent):
     has no consistent (or no unique) continuation -- Painleve's paradox."""
 
     def value(self, ctx: EventContext) -> float:
-        from .switching import effective_compliance
-
-        return effective_compliance(ctx.solver, ctx.t, ctx.q, ctx.qd, ctx.mode, self.name)
+        # b = 1/(K^-1)_jj from the matrices the solution already holds (no kernel calls)
+        sol = ctx.solution
+        j = next(k for k, r in enumerate(sol.layout) if r.kind == "normal" and r.name == self.name)
+        n, m = sol.M.shape[0], len(sol.layout)
+        K = np.zeros((n + m, n + m))
+        K[:n, :n] = sol.M
+        K[:n, n:] = -sol.Bm
+        K[n:, :n] = sol.Gm
+        e = np.zeros(n + m)
+        e[n + j] = 1.0
+        try:
+            inv_jj = np.linalg.solve(K, e)[n + j]
+        except np.linalg.LinAlgError:
+            return 0.0
+        return float(1.0 / inv_jj) if inv_jj != 0 else float("inf")

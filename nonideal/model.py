@@ -251,12 +251,14 @@ class Model:
         return _to_expr(text, self.names(order), where, self.coordinates)
 
     def numeric_initial(self) -> dict[str, float]:
-        """The initial values given, evaluated with the parameter values."""
-        values = {sp.Symbol(n): p.value for n, p in self.parameters.items()}
-        out = {}
-        for key, expr in self.initial.items():
-            out[key] = float(sp.sympify(expr).subs(values))
-        return out
+        """The initial values given, evaluated with the parameter values (computed once: the
+        model is immutable)."""
+        cached = self.__dict__.get("_numeric_initial")
+        if cached is None:
+            values = {sp.Symbol(n): p.value for n, p in self.parameters.items()}
+            cached = {key: float(sp.sympify(expr).subs(values)) for key, expr in self.initial.items()}
+            self.__dict__["_numeric_initial"] = cached
+        return dict(cached)
 
 
 # ====================================================================== normalization

@@ -525,10 +525,29 @@ def recover_multipliers(M: np.ndarray, F: np.ndarray, B: np.ndarray, qdd: np.nda
 def diagnose_singular(solver: ModeSolver, M, G, B, layout, t, q, qd) -> Exception:
     """Turn a singular linear system into an actionable error naming what is singular."""
     kernel = solver.kernel
+    if all(np.isfinite(G).ravel()) and np.all(np.isfinite(M)):
+        # constraints and the mass matrix: the detailed diagnosis of nonideal.checks
+        from .checks import diagnose_state
+
+        closed = [r.index for r in layout if r.kind == "constraint" and kernel.rows[r.index].unilateral]
+        found = diagnose_state(kernel.model, t, q, qd, closed, params=solver.params)
+        if found is not None:
+            from .checks import diagnose_initial_state
+            from .errors import SingularSystem as _Singular
+
+            if diagnose_initial_state(kernel.model) is None:
+                return _Singular(
+                    [p + "; the equations are regular at the initial state, so this is a singular "
+                     "configuration of the coordinates or constraints (like r = 0 in polar "
+                     "coordinates): choose another state or other coordinates" for p in found.problems],
+                    found.source)
+            return found
     names = list(kernel.model.coordinates)
     n = kernel.n
     src = None if kernel.model.source == "<api>" else kernel.model.source
-    where = f" at t = {t:.6g}, q = {dict(zip(names, np.round(q, 6)))}, q' = {dict(zip(names, np.round(qd, 6)))}"
+    state = ", ".join(f"{c} = {v:.6g}" for c, v in zip(names, q))
+    rates = ", ".join(f"{c}' = {v:.6g}" for c, v in zip(names, qd))
+    where = f" at t = {t:.6g} ({state}; {rates})"
     m = len(layout)
     bad = [r.name for j, r in enumerate(layout) if not (np.all(np.isfinite(G[j])) and np.all(np.isfinite(B[:, j])))]
     if bad or not (np.all(np.isfinite(M))):

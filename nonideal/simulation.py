@@ -300,7 +300,12 @@ class Simulation:
         model = self.model
         t0 = model.t0
         if times is not None:
-            times = np.array(sorted(float(s) for s in times))
+            times = np.array([float(s) for s in times])
+            if not np.all(np.isfinite(times)):
+                raise ModelError("--times: the sample times must be finite numbers")
+            if times.size > 1 and np.any(np.diff(times) <= 0):
+                raise ModelError("--times: the sample times must be strictly increasing "
+                                 f"(got {', '.join(f'{v:g}' for v in times)})")
             if times.size and times[0] < t0:
                 raise ModelError(f"--times: {times[0]} is before t0 = {t0}")
         if t_end is None:
@@ -323,8 +328,8 @@ class Simulation:
         events_log: list[dict] = []
         next_time = 0
 
-        def emit(t, yy, md):
-            samples.append(Sample(float(t), np.array(yy, dtype=float), md))
+        def emit(t, yy, md, solution=None):
+            samples.append(Sample(float(t), np.array(yy, dtype=float), md, solution))
 
         if times is None or (times.size and abs(times[0] - t0) <= 1e-14 * max(1, abs(t0))):
             emit(t0, y, mode)
@@ -405,7 +410,8 @@ class Simulation:
                     events_log.append(record)
                     if len(events_log) > self.max_events:
                         raise IntegrationFailed(te, mode.label(), f"more than {self.max_events} mode "
-                                                "switches (chattering or Zeno behaviour)")
+                                                "switches (chattering or Zeno behaviour)",
+                                                None if model.source == "<api>" else model.source)
                     mode = new_mode
                     t = te
                     if times is None:
@@ -442,7 +448,7 @@ class Simulation:
                     restart = True
                     continue
                 if times is None:
-                    emit(t_new, ode.y, mode)
+                    emit(t_new, ode.y, mode, ctx.solution)
                 else:
                     next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times, next_time,
                                                    mode, emit, include_end=False)
@@ -542,6 +548,14 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
     >>> traj.t.tolist()
     [0.0, 1.0]
     """
+    allowed = ("parameters", "rtol", "atol", "method", "max_step", "independent", "max_events",
+               "detect_jam", "initial", "stop_on")
+    unknown = [k for k in options if k not in allowed]
+    if unknown:
+        from .errors import did_you_mean
+        raise ModelError([f"simulate: unknown option '{k}'{did_you_mean(k, allowed)}; allowed: "
+                          + ", ".join(allowed) for k in unknown])
     initial = options.pop("initial", None)
+    stop_on = options.pop("stop_on", None)
     sim = Simulation(model, form=form, **options)
-    return sim.run(t_end=t_end, times=times, initial=initial)
+    return sim.run(t_end=t_end, times=times, initial=initial, stop_on=stop_on)

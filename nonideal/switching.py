@@ -196,6 +196,7 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
     candidates.sort(key=lambda hc: -sum(1 for cs in hc[1] if cs.state == STICK))
     level = None
     fallback = None
+    singular: list[Exception] = []
     for held, combo in candidates:
         sticks = sum(1 for cs in combo if cs.state == STICK)
         if level is not None and sticks < level:
@@ -212,7 +213,8 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
         for mode in modes:
             try:
                 sol = solver.solve(t, q, qd, mode)
-            except (SingularSystem, MechanicsError):
+            except (SingularSystem, MechanicsError) as exc:
+                singular.append(exc)
                 continue
             if not np.all(np.isfinite(sol.qdd)):
                 continue
@@ -226,6 +228,9 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
         consistent = [fallback]
     state = dict(zip(solver.model.coordinates, q))
     state.update({c + "'": v for c, v in zip(solver.model.coordinates, qd)})
+    if not consistent and singular and all(isinstance(e, SingularSystem) for e in singular):
+        # every candidate is singular: the model itself is (mass matrix, dependent constraints)
+        raise singular[0]
     if not consistent:
         sliding = [n for n, o in zip(solver.ck.names, copts) if any(cs.state == SLIDE for cs in o)]
         if sliding:

@@ -28,6 +28,7 @@ class Sample:
     t: float
     y: np.ndarray
     mode: Any
+    solution: Any = None  # the motion at this state, when the simulation already computed it
 
 
 @dataclass(frozen=True, eq=False)
@@ -84,7 +85,7 @@ class Trajectory:
                            "gap": np.zeros(N), "mu_static": np.zeros(N), "mode": []}
                     for name, d in zip(ck.names, ck.dims)} if ck else {}
         for k, s in enumerate(samples):
-            sol = solver.solve(s.t, q[k], qd[k], s.mode)
+            sol = s.solution if s.solution is not None else solver.solve(s.t, q[k], qd[k], s.mode)
             qdd[k] = sol.qdd
             for j, i in enumerate(sol.rows):
                 mult[rows[i].name][k] = sol.multipliers[j]
@@ -149,9 +150,9 @@ class Trajectory:
 
     # ---------------------------------------------------------------- outputs
     def to_dict(self) -> dict[str, Any]:
-        """The SPEC's JSON structure of ``simulate``."""
+        """The SPEC's JSON structure of ``simulate`` (non-finite numbers become ``null``)."""
         def arr(a):
-            return [float(x) for x in a]
+            return [float(x) if np.isfinite(x) else None for x in a]
         return {
             "model": self.model,
             "t": arr(self.t),
@@ -195,5 +196,5 @@ def _jsonable(obj):
     if isinstance(obj, np.ndarray):
         return obj.tolist()
     if isinstance(obj, float) and not np.isfinite(obj):
-        return str(obj)
+        return None
     return obj

@@ -141,9 +141,6 @@ def test_indefinite_kinetic_energy(capsys, tmp_path):
            "velocity combination y' it is negative" in err
 
 
-@pytest.mark.xfail(reason="nonideal/switching.py select_mode swallows SingularSystem and raises "
-                          "'no consistent set of held constraints' (MechanicsError, exit 3) "
-                          "for the Python API; the CLI names the singularity", strict=False)
 @pytest.mark.parametrize("name", ["singular_mass.toml", "duplicate_constraint.toml"])
 def test_python_api_simulate_names_the_singularity(name):
     with pytest.raises(SingularSystem):
