@@ -219,6 +219,55 @@ def _independent(text: str | None, model) -> tuple[str, ...] | None:
     return names
 
 
+def _substitutions(text: str | None, model) -> dict:
+    """``"x1 = x + l*cos(theta), y1 = l*sin(theta)"`` -> SymPy substitutions for display; names
+    that are not in the model (theta) become new symbols."""
+    import re
+
+    import sympy as sp
+
+    from .errors import ExpressionError
+    from .expressions import parse_expression
+
+    if not text:
+        return {}
+    out = {}
+    names = model.names(order=1)
+    problems = []
+    for part in re.split(r",(?![^()]*\))", text):
+        if not part.strip():
+            continue
+        if "=" not in part:
+            problems.append(f"--substitute: '{part.strip()}' is not of the form name = expression")
+            continue
+        key, _, expr = part.partition("=")
+        key = key.strip()
+        if key not in names:
+            problems.append(f"--substitute: '{key}' is not a name of the model{did_you_mean(key, names)}")
+            continue
+        local = dict(names)
+        for ident in re.findall(r"[A-Za-z_][A-Za-z_0-9]*", expr):
+            if ident not in local and ident not in ("sin", "cos", "tan", "sqrt", "exp", "log", "pi"):
+                local[ident] = sp.Symbol(ident)
+        try:
+            out[names[key]] = parse_expression(expr.strip(), local, f"--substitute {key}")
+        except ExpressionError as exc:
+            problems.extend(exc.problems)
+    if problems:
+        raise ModelError(problems)
+    return out
+
+
+def _contact_states(items, model) -> dict[str, str]:
+    out = {}
+    for item in items or []:
+        if "=" not in item:
+            raise ModelError(f"--contact: '{item}' is not of the form NAME=STATE (e.g. floor=slide+)")
+        name, _, state = item.partition("=")
+        out[name.strip()] = state.strip()
+    return out
+
+
 def _explained(model, exc: MechanicsError) -> Exception:
     """A singular mass matrix or dependent constraints are bad input, not a paradox: when
     the mode selection reports "no consistent mode" and the initial state is singular, say
@@ -255,7 +304,19 @@ def cmd_derive(args) -> int:
     _check_outputs(args, args.model)
     model = _load(args.model)
     independent = _independent(args.independent, model)
-    eom = derive(model, args.form, independent=independent)
+    states = _contact_states(args.contact, model)
+    if args.friction == "painleve":
+        from .friction_law import painleve_model
+
+        eom = derive(painleve_model(model)[0], args.form, independent=independent)
+    elif model.contacts:
+        from .friction_law import derive_in_mode
+
+        eom = derive_in_mode(model, args.form, states, independent)
+    else:
+        if states:
+            raise ModelError("--contact: the model has no [[contacts]]")
+        eom = derive(model, args.form, independent=independent)
     outputs = _Outputs()
     if args.json:
         _emit_json(args, eom.to_dict(), outputs)
@@ -354,6 +415,46 @@ def cmd_simulate(args) -> int:
     return 0
 
 
+def cmd_realizability(args) -> int:
+    from .realizability import realizability, realizability_along
+
+    _check_outputs(args, args.model)
+    model = _load(args.model)
+    contacts = [c.strip() for c in args.contact.split(",")] if args.contact else None
+    if args.along:
+        if args.at:
+            raise ModelError("--along follows the motion from the model's initial state; drop --at")
+        report = realizability_along(model, t_end=args.t_end)
+    else:
+        at = _parse_at(model, args.at)
+        report = realizability(model, at=at, t=args.t, contacts=contacts)
+    outputs = _Outputs()
+    if args.json:
+        _emit_json(args, report.to_dict(), outputs)
+    else:
+        print(report.as_text())
+    outputs.commit()
+    return 0
+
+
+def cmd_friction_law(args) -> int:
+    from .friction_law import friction_law
+
+    _check_outputs(args, args.model)
+    model = _load(args.model)
+    law = friction_law(model, args.contact, args.direction,
+                       substitutions=_substitutions(args.substitute, model))
+    outputs = _Outputs()
+    if args.json:
+        _emit_json(args, law.to_dict(), outputs)
+    elif args.latex:
+        print(law.as_latex())
+    else:
+        print(law.as_text())
+    outputs.commit()
+    return 0
+
+
 def cmd_examples(args) -> int:
     from . import gallery
 
@@ -404,6 +505,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     forms = list(FORMS)
     form_help = f"the form: {', '.join(forms)} (default lagrange1)"
+    solvers = forms + ["gauss"]
+    solver_help = (f"the form evaluating the accelerations: {', '.join(solvers)} (gauss: the "
+                   "generalized Gauss principle with friction, a numerical solver); default lagrange1")
     p = argparse.ArgumentParser(
         prog="nonideal",
         description="Analytical dynamics of systems with ideal and non-ideal constraints.",
@@ -432,6 +536,13 @@ def build_parser() -> argparse.ArgumentParser:
     json_option(fmt)
     d.add_argument("--independent", help="independent coordinates for the reduced forms, comma-separated")
     d.add_argument("--simplify", action="store_true", help="trigsimp the printed equations (can be slow)")
+    d.add_argument("--contact", action="append", metavar="NAME=STATE",
+                   help="state of a contact: separated, stick, slide+, slide- (one slip component) "
+                   "or slide (two); repeatable; default: its state at t0")
+    d.add_argument("--friction", choices=["physical", "painleve"], default="physical",
+                   help="physical: a sliding contact's normal force carries -mu N s (default); "
+                   "painleve: contacts as ideal constraints plus the friction force M V mu of the "
+                   "seed's extended method of combining constraints")
     d.set_defaults(func=cmd_derive)
 
     e = sub.add_parser("evaluate", help="accelerations, multipliers and reactions at one state",
@@ -440,8 +551,8 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("model", help="model file (TOML) or gallery example name")
     e.add_argument("--at", help="state, e.g. \"x=0.1, theta=0.3, x'=1\" (default: the model's initial state)")
     e.add_argument("--t", type=float, default=None, help="time (default t0)")
-    e.add_argument("--form", default="lagrange1", type=_form_type(forms), metavar="FORM",
-                   help=form_help)
+    e.add_argument("--form", default="lagrange1", type=_form_type(solvers), metavar="FORM",
+                   help=solver_help)
     e.add_argument("--independent", help="independent coordinates for the reduced forms")
     json_option(e)
     e.set_defaults(func=cmd_evaluate)
@@ -452,8 +563,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--t-end", type=float, default=None, help="end time (default: [simulation] t_end)")
     s.add_argument("--times", help="output exactly at these times, comma-separated, strictly "
                    "increasing (negative times: --times=-1,0,1)")
-    s.add_argument("--form", default="lagrange1", type=_form_type(forms), metavar="FORM",
-                   help=form_help)
+    s.add_argument("--form", default="lagrange1", type=_form_type(solvers), metavar="FORM",
+                   help=solver_help)
     s.add_argument("--rtol", type=float, help="relative tolerance (default: [simulation] rtol)")
     s.add_argument("--atol", type=float, help="absolute tolerance (default: [simulation] atol)")
     s.add_argument("--method", type=_method_type, metavar="METHOD",
@@ -462,6 +573,35 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--csv", metavar="OUT", help="write the trajectory as CSV")
     s.add_argument("--plot", metavar="PNG", help="plot the trajectory, reactions and energy")
     s.set_defaults(func=cmd_simulate)
+
+    r = sub.add_parser("realizability", help="can Coulomb friction keep the contacts sticking/rolling?",
+                       description="Realizability of no-slip constraints by Coulomb friction "
+                       "(Kalinin & Novozhilov): the friction force needed to keep each touching "
+                       "contact sticking, compared with mu_s N, with the margin; with --along, the "
+                       "first time along the rolling motion when it stops being realizable.")
+    r.add_argument("model", help="model file (TOML) or gallery example name")
+    r.add_argument("--at", help="state (default: the model's initial state)")
+    r.add_argument("--t", type=float, default=None, help="time (default t0)")
+    r.add_argument("--contact", help="contacts to keep sticking, comma-separated (default: all touching)")
+    r.add_argument("--along", action="store_true", help="follow the rolling motion")
+    r.add_argument("--t-end", type=float, default=None, help="end of the motion followed by --along")
+    json_option(r)
+    r.set_defaults(func=cmd_realizability)
+
+    fl = sub.add_parser("friction-law", help="the friction law of the system mu(lambda) for a contact",
+                        description="The friction law of the system (Manglieva & Beknazarov, "
+                        "sec. 1.1-1.3): normal force, friction force and the coefficient mu as "
+                        "functions of the friction-independent constraint force lambda, for a "
+                        "contact sliding in a given direction; Painleve's condition.")
+    fl.add_argument("model", help="model file (TOML) or gallery example name")
+    fl.add_argument("--contact", required=True, help="the contact (one slip component)")
+    fl.add_argument("--direction", type=int, choices=[1, -1], default=1, help="sign of the slip")
+    fl.add_argument("--substitute", help="display in other variables, e.g. "
+                    "\"x1 = x + l*cos(theta), y1 = y + l*sin(theta)\"")
+    fmt2 = fl.add_mutually_exclusive_group()
+    fmt2.add_argument("--latex", action="store_true", help="print LaTeX")
+    json_option(fmt2)
+    fl.set_defaults(func=cmd_friction_law)
 
     x = sub.add_parser("examples", help="the gallery of worked examples",
                        description="The gallery of worked examples: list, show NAME, run NAME.")

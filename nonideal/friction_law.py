@@ -167,3 +167,72 @@ def painleve_model(model: Model, contacts=None) -> tuple[Model, list[str]]:
     from .constraints_util import contact_gap_constraints
 
     return contact_gap_constraints(model, contacts)
+
+
+CONTACT_STATES = ("separated", "stick", "slide+", "slide-", "slide")
+
+
+def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = None,
+                   independent=None):
+    """Equations of motion with the contacts in given states (the physical representation:
+    a sliding contact's normal force carries Coulomb's friction ``-mu N s``).
+
+    Parameters
+    ----------
+    states : mapping contact -> state, optional
+        ``"separated"``, ``"stick"``, ``"slide+"``/``"slide-"`` (one slip component, sign of
+        the slip) or ``"slide"`` (two components: the direction ``s = U/|U|`` appears as the
+        symbols ``s[contact,k]``).  Contacts not given take their state at the initial state
+        (the mode the simulation starts in).
+    """
+    import symengine as se
+
+    from .consistency import complete_state
+    from .dynamics import dynamics_of
+    from .formalisms import derive
+    from .modes import ModeSolver
+    from .numeric import kernel_of, parameter_vector
+    from .switching import select_mode
+
+    names = [c.name for c in model.contacts]
+    states = dict(states or {})
+    for k, v in states.items():
+        if k not in names:
+            raise FormNotApplicable(f"--contact: no contact '{k}'{did_you_mean(k, names)}")
+        if v not in CONTACT_STATES:
+            raise FormNotApplicable(f"--contact {k}: state '{v}' unknown{did_you_mean(v, CONTACT_STATES)}; "
+                                    "use " + ", ".join(CONTACT_STATES))
+    kernel = kernel_of(model)
+    params = parameter_vector(model)
+    held = {r.name for r in kernel.rows if r.unilateral}
+    if len(states) < len(names) or held:
+        q, qd, _ = complete_state(kernel, model.numeric_initial(), params, model.t0)
+        mode = select_mode(ModeSolver(kernel, params), model.t0, q, qd)
+        held = set(mode.held)
+        for name, cs in mode.contacts:
+            states.setdefault(name, cs.label().replace("(N<0)", ""))
+    dyn = dynamics_of(model)
+    rows = [r for r in dyn.rows() if not r.unilateral or r.name in held]
+    notes = []
+    for c, name in enumerate(names):
+        st = states[name]
+        d = len(dyn.contacts[c].U)
+        if st == "separated":
+            notes.append(f"contact '{name}': separated (no force)")
+            continue
+        if st == "stick":
+            rows += dyn.contact_rows(c, "stick")
+            notes.append(f"contact '{name}': sticking (the multipliers of its slip rows are the "
+                         "friction force)")
+            continue
+        if st in ("slide+", "slide-") and d != 1 or st == "slide" and d != 2:
+            raise FormNotApplicable(f"--contact {name}: '{st}' does not fit {d} slip component(s); "
+                                    "use slide+/slide- for one, slide for two")
+        direction = [se.Integer(1 if st == "slide+" else -1)] if d == 1 else None
+        rows += dyn.contact_rows(c, "slide", 1, direction)
+        notes.append(f"contact '{name}': sliding ({st}); its normal force N carries the friction "
+                     "-mu N s" + ("" if d == 1 else " with s = U/|U| (symbols s[...])"))
+    eom = derive(model, form, rows=rows, independent=independent)
+    from dataclasses import replace as _replace
+
+    return _replace(eom, notes=tuple(notes) + tuple(eom.notes))
