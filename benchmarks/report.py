@@ -57,7 +57,7 @@ def profile_block(d: dict) -> str:
     for s in d["simulate"]:
         extra = ""
         if "bare_without_work_integrals" in s:
-            extra = (f"; the same without the 4 work integrals in the state: "
+            extra = (f"; the same without the work integrals in the state: "
                      f"{C.fmt_t(s['bare_without_work_integrals'])} ({s['steps_without_work_integrals']} steps)")
         out.append(f"**Simulate, {s['system']}, form {s['form']}:** {C.fmt_t(s['simulate_warm'])} warm, "
                    f"{s['steps']} steps; bare `solve_ivp` on the same right-hand side "
