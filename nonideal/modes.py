@@ -332,10 +332,12 @@ class ModeSolver:
         (pivoted QR at the state) -- coordinate partitioning, as in multibody codes."""
         key = mode.structure
         fs = self._active.get(key) or self.form_system(mode)
-        if self.independent is not None or not fs.eom.eliminated:
+        # Lagrange II eliminates coordinates on a chart (a root of the constraints chosen at the
+        # initial state): it is never re-partitioned
+        if self.independent is not None or not fs.eom.eliminated or self.form == "lagrange2":
             self._active[key] = fs
             return fs
-        ideal = [j for j, r in enumerate(layout) if self._ideal(mode, r)]
+        ideal = [j for j, r in enumerate(layout) if self._ideal(mode, r) and r.name in fs.eom.eliminated]
         if not ideal:
             return fs
         coords = list(self.model.coordinates)

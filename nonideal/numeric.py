@@ -64,7 +64,16 @@ _LLVM = bool(getattr(se, "have_llvm", False))
 
 
 def _lambdify(inputs, exprs, optimize: bool):
-    """SymEngine Lambdify with CSE; LLVM without optimization unless *optimize*."""
+    """SymEngine Lambdify with CSE; LLVM without optimization unless *optimize*.
+
+    The inputs are renamed first: SymEngine's common-subexpression elimination names its
+    temporaries ``x0, x1, ...`` and avoids only the names that occur in the expressions, so an
+    input called ``x1`` that no output uses would be overwritten.
+    """
+    safe = [se.Symbol(f"__in{i}__") for i in range(len(inputs))]
+    rename = dict(zip(inputs, safe))
+    exprs = [se.sympify(e).xreplace(rename) for e in exprs]
+    inputs = safe
     if _LLVM and not optimize:
         try:
             return se.Lambdify(inputs, exprs, cse=True, backend="llvm", opt_level=0)

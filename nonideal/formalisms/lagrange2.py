@@ -546,6 +546,9 @@ class Lagrange2(Formalism):
         extras = {}
         if rdyn is not None and count_ops([rdyn.T]) <= PRINT_MAX_OPS:
             extras["T"] = rdyn.T
+        if dep:
+            # the chart: these residuals vanish on the branch the equations were derived for
+            extras["chart"] = se.Matrix([dyn.q[d] - phi[d] for d in dep])
         return EquationsOfMotion(
             form=self.name, title=self.title, citation=self.citation, model=dyn.model,
             unknowns=tuple(coords[j] + "''" for j in kept),
