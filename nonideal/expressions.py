@@ -29,6 +29,7 @@ together (``ExpressionError.unknown``).
 from __future__ import annotations
 
 import math
+import numbers
 import re
 import unicodedata
 from collections.abc import Mapping
@@ -126,11 +127,13 @@ def parse_expression(
     if isinstance(text, bool):
         raise ExpressionError(f"{where}: expected an expression, got a boolean ({text}); "
                               "write a number or a quoted expression")
-    if isinstance(text, int):
+    if isinstance(text, numbers.Integral):
+        text = int(text)
         if abs(text) >= 10**MAX_DIGITS:
             raise ExpressionError(f"{where}: number with more than {MAX_DIGITS} digits")
         return sp.Integer(text)
-    if isinstance(text, float):
+    if isinstance(text, numbers.Real):
+        text = float(text)  # also NumPy scalars (whose repr is "np.float64(...)")
         if not math.isfinite(text):
             raise ExpressionError(f"{where}: {text!r} is not a finite number")
         return sp.Rational(repr(text))

@@ -28,10 +28,12 @@ Examples
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+import numpy as np
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
@@ -266,7 +268,7 @@ class Model:
 
 def _to_expr(value: Any, names: Mapping[str, sp.Expr], where: str,
              coordinates: Iterable[str]) -> sp.Expr:
-    if isinstance(value, str) or isinstance(value, (int, float)) and not isinstance(value, bool):
+    if isinstance(value, str) or isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
         return parse_expression(value, names, where)
     if isinstance(value, sp.Basic):
         return _normalize_sympy(sp.sympify(value), names, where, tuple(coordinates))
@@ -426,7 +428,7 @@ class _Normalizer:
                               str(value.get("description", "")))
             else:
                 p = Parameter(name, value)
-            if isinstance(p.value, bool) or not isinstance(p.value, (int, float)) or not math.isfinite(p.value):
+            if isinstance(p.value, bool) or not isinstance(p.value, numbers.Real) or not math.isfinite(p.value):
                 self.problems.append(f"{where}: value must be a finite number (got {p.value!r})")
                 continue
             params[name] = Parameter(name, float(p.value), p.unit, p.description)

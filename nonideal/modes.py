@@ -33,6 +33,10 @@ __all__ = ["Mode", "ContactState", "RowSpec", "Solution", "ContactForce", "ModeS
 SEPARATED, STICK, SLIDE, SMOOTH = "separated", "stick", "slide", "smooth"
 
 
+# compiled reduced forms, per model and form: {(id(model), form): ({key: FormSystem}, model)}
+_FORM_CACHE: dict[tuple, tuple[dict, object]] = {}
+
+
 @dataclass(frozen=True)
 class ContactState:
     """State of one contact.
@@ -181,8 +185,14 @@ class ModeSolver:
         self.ck = contact_kernel_of(kernel.model)
         self.bilateral = [i for i, r in enumerate(kernel.rows) if not r.unilateral]
         self.unilateral = [i for i, r in enumerate(kernel.rows) if r.unilateral]
-        self._forms: dict[tuple, FormSystem] = {}
+        entry = _FORM_CACHE.get((id(self.model), form))
+        if entry is None or entry[1] is not self.model:
+            if len(_FORM_CACHE) > 64:
+                _FORM_CACHE.clear()
+            entry = _FORM_CACHE[(id(self.model), form)] = ({}, self.model)
+        self._forms: dict[tuple, FormSystem] = entry[0]
         self._active: dict[tuple, FormSystem] = {}
+        self._checks: dict[tuple, int] = {}
         self._layouts: dict[tuple, list[RowSpec]] = {}
         self.x = kernel.layout.make(params)
         self.n = kernel.n
@@ -336,6 +346,11 @@ class ModeSolver:
         # initial state): it is never re-partitioned
         if self.independent is not None or not fs.eom.eliminated or self.form == "lagrange2":
             self._active[key] = fs
+            return fs
+        # the conditioning check (two SVDs) runs every few evaluations, not on every call
+        calls = self._checks.get(key, 0)
+        self._checks[key] = calls + 1
+        if key in self._active and calls % 16:
             return fs
         ideal = [j for j, r in enumerate(layout) if self._ideal(mode, r) and r.name in fs.eom.eliminated]
         if not ideal:

@@ -324,6 +324,7 @@ class Simulation:
         mode = select_mode(self.solver, t0, q0, qd0)
         q0, qd0 = self._project(mode, t0, q0, qd0)
         y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))
+        atol = self.atol
         samples: list[Sample] = []
         events_log: list[dict] = []
         next_time = 0
@@ -344,7 +345,7 @@ class Simulation:
         while t < t_end:
             fun = self.rhs(mode)
             events = self.events(mode, t, y)
-            kwargs = dict(rtol=self.rtol, atol=self.atol, max_step=self.max_step)
+            kwargs = dict(rtol=self.rtol, atol=atol, max_step=self.max_step)
             if h is not None and self.method not in ("LSODA",):
                 kwargs["first_step"] = min(h, t_end - t)
             self.solver.set_references(mode, t, y[:n], y[n:2 * n])

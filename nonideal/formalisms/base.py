@@ -220,11 +220,12 @@ def _symbolic_solve(K: list[list], Y: list[list], budget: int):
 
 
 def reduce_velocities(dyn: Dynamics, rows: list[ConstraintRow],
-                      independent: tuple[str, ...] | None, explicit_budget: int | None = None) -> Reduction:
+                      independent: tuple[str, ...] | None, explicit_budget: int | None = None,
+                      factor: int = 2, floor: int = 2000) -> Reduction:
     """Eliminate the dependent velocities of *rows*: ``q'' = V p' + w``.
 
     The dependent block ``G_D`` is solved symbolically when that stays small (a budget of
-    operations proportional to the input); otherwise the entries of ``V`` and ``w`` become
+    ``max(floor, factor * size of the input)`` operations); otherwise the entries of ``V`` and ``w`` become
     auxiliary symbols defined by ``G_D [V_D | w_D] = [-G_I | -gamma]`` and solved numerically.
     """
     n = dyn.n
@@ -247,7 +248,7 @@ def reduce_velocities(dyn: Dynamics, rows: list[ConstraintRow],
     K = [[G[i][j] for j in dep] for i in range(m)]
     Y = [[-G[i][j] for j in ind] + [-gamma[i]] for i in range(m)]
     size_in = count_ops([x for row in K for x in row] + [x for row in Y for x in row])
-    budget = explicit_budget if explicit_budget is not None else max(4000, 12 * size_in)
+    budget = explicit_budget if explicit_budget is not None else max(floor, factor * size_in)
     X = _symbolic_solve(K, Y, budget)
     aux: tuple[Auxiliary, ...] = ()
     if X is None:

@@ -91,7 +91,8 @@ class Shulgin(Formalism):
     def derive(self, dyn, rows, independent):
         ideal, kept = split_rows(rows)
         _check_linear(dyn, ideal)
-        red = reduce_velocities(dyn, ideal, independent)
+        # Shulgin needs the coefficients A_aj explicitly: a larger budget than the other forms
+        red = reduce_velocities(dyn, ideal, independent, factor=12, floor=4000)
         if red.auxiliaries:
             raise FormNotApplicable(
                 "shulgin: the constraints " + ", ".join(r.name for r in ideal) + " cannot be solved "
