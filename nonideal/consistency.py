@@ -52,9 +52,13 @@ class _Levels:
         rows = [_Row(r.name, "constraint", i, r.position is not None, r.unilateral)
                 for i, r in enumerate(kernel.rows)]
         rows += [_Row(c.name, "contact", k, True, not c.bilateral) for k, c in enumerate(self.ck.data)]
+        # slip rows (velocity level only): used for states where the contacts stick
+        rows += [_Row(f"{c.name}_t{j + 1}", "slip", k, False, False)
+                 for k, c in enumerate(self.ck.data) for j in range(len(c.U))]
         self.rows = rows
         self.has_velocity = [kernel.rows[r.index].velocity is not None if r.kind == "constraint" else True
                              for r in rows]
+        self.n_gap_end = len(kernel.rows) + len(self.ck.data)
 
     def __call__(self, t, q, qd):
         """``(G, pos, vel)`` of every row at a state (G is dpos/dq = dvel/dq')."""
@@ -73,9 +77,12 @@ class _Levels:
             vel[:nk] = obs["vel"]
         if self.ck:
             cout = self.ck(x)
-            G[nk:] = cout["Gn"]
-            pos[nk:] = cout["gap"]
-            vel[nk:] = cout["gap_rate"]
+            ne = self.n_gap_end
+            G[nk:ne] = cout["Gn"]
+            pos[nk:ne] = cout["gap"]
+            vel[nk:ne] = cout["gap_rate"]
+            G[ne:] = cout["W"]
+            vel[ne:] = cout["U"]
         return G, pos, vel
 
 
@@ -145,7 +152,7 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     levels = _Levels(kernel, params)
     names = list(model.coordinates)
     rows = levels.rows
-    equality = [i for i, r in enumerate(rows) if not r.unilateral]
+    equality = [i for i, r in enumerate(rows) if not r.unilateral and r.kind != "slip"]
     optional = [i for i, r in enumerate(rows) if r.unilateral]
     start_q = np.array([given.get(c, (guess or {}).get(c, 0.1)) for c in names], dtype=float)
     qd = np.array([given.get(c + "'", 0.0) for c in names], dtype=float)

@@ -102,7 +102,10 @@ def compare_forms(model: Model, forms=None, count: int = 20, seed: int = 0,
     else:
         held = frozenset(held)
     rows = [i for i, r in enumerate(kernel.rows) if not r.unilateral or r.name in held]
-    rows += list(range(len(kernel.rows), len(kernel.rows) + len(model.contacts)))
+    nc = len(kernel.rows) + len(model.contacts)
+    rows += list(range(len(kernel.rows), nc))
+    if contact_state == "stick":   # sticking contacts: their slip velocities vanish too
+        rows += list(range(nc, nc + sum(len(c.slip) for c in model.contacts)))
     states = random_admissible_states(kernel, q0, qd0, params, count, seed=seed, spread=spread,
                                       t0=model.t0, rows=rows)
     ref = ModeSolver(kernel, params, "lagrange1")

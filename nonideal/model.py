@@ -351,6 +351,22 @@ class _Normalizer:
     def set(self, name: str, value: Any) -> None:
         object.__setattr__(self.m, name, value)
 
+    def smooth(self, e: sp.Expr | None, where: str) -> sp.Expr | None:
+        """Expressions that the equations differentiate must be smooth (SymEngine cannot
+        differentiate abs/sign/min/max, and the motion would not be defined at the kinks)."""
+        if e is None:
+            return None
+        live = set(self.m.q) | set(self.m.qd) | set(self.m.qdd) | {t}
+        rough = sorted({str(f) for f in e.atoms(sp.Abs, sp.sign, sp.Min, sp.Max) if f.free_symbols & live})
+        if rough:
+            self.problems.append(
+                f"{where}: {', '.join(rough)} is not differentiable, and this expression is "
+                "differentiated to form the equations of motion; write it smoothly (abs(u) -> "
+                "sqrt(u^2) away from 0; min/max of time -> a smooth ramp such as "
+                "1 - exp(-(t/tau)^2))")
+            return None
+        return e
+
     def expr(self, value: Any, where: str, order: int = 1) -> sp.Expr | None:
         try:
             return _to_expr(value, self.m.names(order), where, self.m.coordinates)
@@ -449,7 +465,7 @@ class _Normalizer:
                     "equations of motion use its second derivatives), e.g. m/2*x'^2 instead "
                     "of m/2*abs(x')^2")
                 kin = None
-        pot = self.expr(m.potential, "[energy] potential", 0)
+        pot = self.smooth(self.expr(m.potential, "[energy] potential", 0), "[energy] potential")
         self.set("kinetic", kin if kin is not None else sp.Integer(0))
         self.set("potential", pot if pot is not None else sp.Integer(0))
         forces = m.forces
@@ -479,6 +495,8 @@ class _Normalizer:
             )
             return None
         out = [self.expr(v, f"{where}[{i}]", order) for i, v in enumerate(values)]
+        if order == 0:  # geometry (positions, rotations) is differentiated: it must be smooth
+            out = [self.smooth(e, f"{where}[{i}]") for i, e in enumerate(out)]
         return None if any(e is None for e in out) else tuple(out)
 
     def bodies_and_loads(self) -> None:
@@ -497,7 +515,7 @@ class _Normalizer:
             elif isinstance(b, PlanarBody):
                 pos = self.vector(b.position, f"{where}: position", (2,))
                 inertia = self.expr(b.inertia, f"{where}: inertia", 0)
-                angle = self.expr(b.angle, f"{where}: angle", 0)
+                angle = self.smooth(self.expr(b.angle, f"{where}: angle", 0), f"{where}: angle")
                 if None not in (mass, pos, inertia, angle):
                     bodies.append(PlanarBody(b.name, mass, inertia, pos, angle))
             elif isinstance(b, RigidBody):
@@ -565,7 +583,7 @@ class _Normalizer:
                     "use holonomic, nonholonomic or servo"
                 )
                 continue
-            expr = self.expr(c.expr, f"{where}: expr", 2)
+            expr = self.smooth(self.expr(c.expr, f"{where}: expr", 2), f"{where}: expr")
             if expr is None:
                 continue
             order = _derivative_order(expr, m.coordinates)
@@ -644,7 +662,7 @@ class _Normalizer:
                 self.problems.append(f"{where}: name already used by a constraint or contact")
                 continue
             names.add(ct.name)
-            gap = self.expr(ct.gap, f"{where}: gap", 2)
+            gap = self.smooth(self.expr(ct.gap, f"{where}: gap", 2), f"{where}: gap")
             if gap is None:
                 continue
             if _derivative_order(gap, m.coordinates) > 0:
@@ -664,7 +682,7 @@ class _Normalizer:
                 self.problems.append(f"{where}: slip must have 1 or 2 components (got {len(ct.slip)})")
                 continue
             for i, s in enumerate(ct.slip):
-                e = self.expr(s, f"{where}: slip[{i}]", 2)
+                e = self.smooth(self.expr(s, f"{where}: slip[{i}]", 2), f"{where}: slip[{i}]")
                 if e is None:
                     continue
                 if _derivative_order(e, m.coordinates) == 2:

@@ -23,7 +23,7 @@ import numpy as np
 from .contact_kernel import contact_kernel_of
 from .contacts import Coulomb, LinearizedCoulomb, RegularizedCoulomb
 from .dynamics import dynamics_of
-from .errors import MechanicsError, SingularSystem
+from .errors import FormNotApplicable, MechanicsError, SingularSystem
 from .formalisms import derive
 from .numeric import FormSystem, Kernel, SingularMatrix, solve_saddle
 
@@ -192,7 +192,7 @@ class ModeSolver:
             entry = _FORM_CACHE[(id(self.model), form)] = ({}, self.model)
         self._forms: dict[tuple, FormSystem] = entry[0]
         self._active: dict[tuple, FormSystem] = {}
-        self._checks: dict[tuple, int] = {}
+        self._elim_rows: dict[tuple, list[int]] = {}
         self._layouts: dict[tuple, list[RowSpec]] = {}
         self.x = kernel.layout.make(params)
         self.n = kernel.n
@@ -347,25 +347,35 @@ class ModeSolver:
         if self.independent is not None or not fs.eom.eliminated or self.form == "lagrange2":
             self._active[key] = fs
             return fs
-        # the conditioning check (two SVDs) runs every few evaluations, not on every call
-        calls = self._checks.get(key, 0)
-        self._checks[key] = calls + 1
-        if key in self._active and calls % 16:
-            return fs
-        ideal = [j for j, r in enumerate(layout) if self._ideal(mode, r) and r.name in fs.eom.eliminated]
+        ideal = self._elim_rows.get((key, id(fs)))
+        if ideal is None:
+            ideal = [j for j, r in enumerate(layout) if self._ideal(mode, r) and r.name in fs.eom.eliminated]
+            self._elim_rows[(key, id(fs))] = ideal
         if not ideal:
             return fs
         coords = list(self.model.coordinates)
         Gi = Gm[ideal]
         dep = [coords.index(c) for c in coords if c not in fs.eom.independent]
-        s_all = np.linalg.svd(Gi, compute_uv=False)
-        s_dep = np.linalg.svd(Gi[:, dep], compute_uv=False) if dep else np.array([1.0])
-        if len(dep) != len(ideal) or s_dep[-1] < 1e-3 * s_all[0]:
+        # Hadamard ratio |det G_D| / prod |G_i| in [0, 1], per row (geometric mean): cheap (one
+        # small LU) on every call; small when the dependent block is nearly singular
+        norms = np.sqrt(np.einsum("ij,ij->i", Gi, Gi))
+        if len(dep) == len(ideal):
+            ratio = (abs(np.linalg.det(Gi[:, dep])) / max(float(np.prod(norms)), 1e-300)) ** (1.0 / len(dep))
+        else:
+            ratio = 0.0
+        if ratio < 0.1:
+            # re-partition at the best-conditioned choice (pivoted QR at this state); the
+            # hysteresis between 0.1 and the new choice's ratio avoids switching back and forth
             from scipy.linalg import qr
+
             _, _, piv = qr(Gi, pivoting=True)
             new_dep = sorted(piv[:len(ideal)])
             ind = tuple(c for j, c in enumerate(coords) if j not in new_dep)
-            fs = self.form_system(mode, ind)
+            if set(new_dep) != set(dep):
+                try:
+                    fs = self.form_system(mode, ind)
+                except FormNotApplicable:
+                    pass  # e.g. Shulgin when the explicit coefficients would be too large
         self._active[key] = fs
         return fs
 

@@ -204,10 +204,12 @@ class Simulation:
             record.update(normal_velocity=float(vel), impulses=impulses, energy_change=float(loss))
             if self.track:
                 y[2 * n + 4] += loss  # work of the impulsive reactions
-            new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8)
+            new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8, previous=mode,
+                              concerned=ev.name)
         else:
             new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8,
-                              exclude=mode if ev.excludes_current else None)
+                              exclude=mode if ev.excludes_current else None, previous=mode,
+                              concerned=ev.name)
         q, qd = self._project(new, t, q, qd)
         y[:n], y[n:2 * n] = q, qd
         record["mode"] = new.label()

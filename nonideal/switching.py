@@ -161,12 +161,15 @@ def _same(a: Mode, b: Mode) -> bool:
 
 
 def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
-                tol_pos: float = 1e-9, tol_vel: float = 1e-9, exclude: Mode | None = None) -> Mode:
+                tol_pos: float = 1e-9, tol_vel: float = 1e-9, exclude: Mode | None = None,
+                previous: Mode | None = None, concerned: str | None = None) -> Mode:
     """Choose held unilateral constraints and contact states at a state.
 
     *exclude* is the mode that an event has just ended (a multiplier or a friction margin
     reached zero): at the switching point it is still (marginally) consistent, so it is
-    dropped whenever another consistent choice exists.
+    dropped whenever another consistent choice exists.  *previous* is the mode before the
+    event and *concerned* the contact the event is about: among equally sticky choices with
+    the same contacts touching, the one that changes the fewest other contacts is taken.
 
     Raises
     ------
@@ -241,6 +244,18 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
     best = max(_stickiness(m) for m, _ in consistent)
     # static friction: among the consistent choices prefer those that stick the most
     preferred = [(m, s) for m, s in consistent if _stickiness(m)[0] == best[0]]
+    if previous is not None and len(preferred) > 1:
+        # with mu < mu_s, which of two sticking contacts slips can be ambiguous in rigid Coulomb
+        # theory; the event concerned one contact, so the others keep their friction state.
+        # (Only between choices with the same contacts touching: an ambiguity between touching
+        # and separating is Painleve's indeterminacy and is reported.)
+        normal = {(m.held, tuple(cs.state == SEPARATED for _, cs in m.contacts)) for m, _ in preferred}
+        if len(normal) == 1:
+            def change(m):
+                return sum(1 for (name, a), (_, b) in zip(m.contacts, previous.contacts)
+                           if a.state != b.state and name != concerned)
+            least = min(change(m) for m, _ in preferred)
+            preferred = [(m, sol) for m, sol in preferred if change(m) == least]
     m0, s0 = preferred[0]
     scale = 1e-7 * (1.0 + float(np.max(np.abs(s0.qdd))))
     distinct = [(m, s) for m, s in preferred if not np.allclose(s.qdd, s0.qdd, rtol=1e-7, atol=scale)]

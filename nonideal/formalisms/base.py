@@ -122,7 +122,9 @@ def _choose_dependent(dyn: Dynamics, G: list[list], names: list[str],
     m, n = len(G), dyn.n
     coords = list(dyn.model.coordinates)
     flat = [G[i][j] for i in range(m) for j in range(n)]
-    inst = [x.reshape(m, n) for x in numeric_instances(dyn, flat, count=2, with_initial=True)]
+    # the initial state guides an automatic choice; a given choice is only checked generically
+    inst = [x.reshape(m, n) for x in numeric_instances(dyn, flat, count=2,
+                                                         with_initial=independent is None)]
     if independent is not None:
         ind = [coords.index(c) for c in independent]
         dep = [j for j in range(n) if j not in ind]
