@@ -56,7 +56,8 @@ from ..model import Model
 
 NAME = "disk-rolling-torque"
 ORDER = 44
-TITLE = "Disk driven by a torque c t: rolling realizable until t_loss = mu_s m g (I + m R^2)/(m R c); regularized -> rolling as eps -> 0"
+TITLE = ("Disk driven by a torque c t: rolling realizable until t_loss = mu_s m g (I + m R^2)/(m R c); "
+         "regularized -> rolling as eps -> 0")
 FILE = "disk_rolling_torque.toml"
 
 EPSILONS = (1e-2, 1e-3, 1e-4)
@@ -210,8 +211,9 @@ def run(verbose: bool = True) -> dict:
               f"friction force {err_F:.1e}; energy balance {out['energy_balance_relative']:.1e}")
         print("epsilon-linear regularization (Radau), x' on [0, 1] vs rolling:")
         for r in reg:
-            print(f"  eps = {r['eps']:.0e}: error {r['error_vs_rolling']:.6e} = {r['error_vs_rolling'] / r['eps']:.6f} eps "
-                  f"(closed form {coef:.6f} eps); vs exact regularized solution {r['error_vs_regularized_closed_form']:.1e}")
+            print(f"  eps = {r['eps']:.0e}: error {r['error_vs_rolling']:.6e} = "
+                  f"{r['error_vs_rolling'] / r['eps']:.6f} eps (closed form {coef:.6f} eps); vs exact "
+                  f"regularized solution {r['error_vs_regularized_closed_form']:.1e}")
         print(f"  error ratios between successive eps: {np.round(ratios, 6).tolist()}")
         print(f"all forms vs Lagrange I (sliding, sticking): {cross['slide']:.1e}, {cross['stick']:.1e}")
         print("ok" if ok else "FAILED")

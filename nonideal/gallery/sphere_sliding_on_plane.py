@@ -162,7 +162,8 @@ def check(model: Model, v0=V0, omega0=OMEGA0, t_end: float | None = None) -> dic
         "timeline": [full.modes[0]] + [e["mode"] for e in ev],
         "v_f": cf["v_f"].tolist(), "v_f_simulated": full.qd[-1, :2].tolist(),
         "v_f_relative_error": float(np.linalg.norm(full.qd[-1, :2] - cf["v_f"]) / np.linalg.norm(cf["v_f"])),
-        "omega_f_relative_error": float(np.linalg.norm(full.qd[-1, 3:6] - cf["omega_f"]) / np.linalg.norm(cf["omega_f"])),
+        "omega_f_relative_error": float(np.linalg.norm(full.qd[-1, 3:6] - cf["omega_f"])
+                                        / np.linalg.norm(cf["omega_f"])),
         "max_error_position": float(np.max(np.abs(tr.q[:, :2] - pos))),
         "max_error_velocity": float(np.max(np.abs(tr.qd[:, :2] - vel))),
         "max_error_omega": float(np.max(np.abs(w - omega))),
@@ -183,7 +184,8 @@ def _ok(r: dict) -> bool:
     return (r["t_star_relative_error"] < 1e-9 and r["v_f_relative_error"] < 1e-9
             and r["omega_f_relative_error"] < 1e-9 and len(r["events"]) == 1
             and r["timeline"] == ["plane:slide", "plane:stick"]
-            and max(r["max_error_position"], r["max_error_velocity"], r["max_error_slip"], r["slip_direction_drift"], r["angular_momentum_about_P_drift"],
+            and max(r["max_error_position"], r["max_error_velocity"], r["max_error_slip"],
+                    r["slip_direction_drift"], r["angular_momentum_about_P_drift"],
                     r["spin_drift"], r["max_error_normal"]) < 1e-9 and r["max_error_omega"] < 1e-8
             and abs(r["friction_work"] + r["energy_loss_closed_form"]) < 1e-9
             and abs(r["kinetic_energy_lost"] - r["energy_loss_closed_form"]) < 1e-9
