@@ -164,6 +164,70 @@ class Solution:
         return float(self.multipliers[self.rows.index(row)]) if row in self.rows else 0.0
 
 
+#: re-partition when exchanging one dependent for one independent coordinate would multiply
+#: |det G_D| by more than this (the partition is then far from the best one at this state)
+REPARTITION_GAIN = 4.0
+
+
+def _better_partition(Gi: np.ndarray, dep: list[int]) -> list[int] | None:
+    """A better-conditioned choice of dependent coordinates for the rows ``Gi`` (m, n), or
+    ``None`` when the current choice *dep* is good enough.
+
+    With ``X = G_D^-1 G_I`` the entry ``|X_ij|`` is the factor by which ``|det G_D|`` changes
+    when dependent coordinate i and independent coordinate j are exchanged (Cramer's rule), and
+    ``q'_D = -X q'_I`` on the constraint manifold: a large entry means the dependent velocities
+    are large multiples of the independent ones and the reduced form loses digits to
+    cancellation (the choice becomes singular where the motion has no component along an
+    independent coordinate).  The current choice is kept while every ``|X_ij| <=
+    REPARTITION_GAIN``; otherwise exchanges of the largest entry are made until all are <= 1.05
+    (a locally maximal-volume choice, as in "maxvol" coordinate partitioning), so switching
+    back needs the entries to grow again by ~``REPARTITION_GAIN`` (hysteresis).
+    """
+    m, n = Gi.shape
+    if m == 0:
+        return None
+    dep = list(dep)
+    X = _exchange_factors(Gi, dep)
+    if X is not None and (X.size == 0 or float(np.max(np.abs(X))) <= REPARTITION_GAIN):
+        return None
+    if X is None:
+        from scipy.linalg import qr
+
+        _, _, piv = qr(Gi, pivoting=True)
+        dep = sorted(int(j) for j in piv[:m])
+        X = _exchange_factors(Gi, dep)
+        if X is None:
+            return dep
+    for _ in range(4 * n):
+        if X.size == 0:
+            break
+        i, j = np.unravel_index(int(np.argmax(np.abs(X))), X.shape)
+        if abs(X[i, j]) <= 1.05:
+            break
+        ind = [c for c in range(n) if c not in dep]
+        dep[i] = ind[j]
+        dep.sort()
+        X = _exchange_factors(Gi, dep)
+        if X is None:
+            break
+    return dep
+
+
+def _exchange_factors(Gi: np.ndarray, dep: list[int]) -> np.ndarray | None:
+    """``G_D^-1 G_I`` (rows: dependent coordinates in the order of *dep*), ``None`` when
+    ``G_D`` is singular or not square."""
+    m, n = Gi.shape
+    if len(dep) != m:
+        return None
+    ind = [c for c in range(n) if c not in dep]
+    try:
+        X = np.linalg.solve(Gi[:, dep], Gi[:, ind])
+    except np.linalg.LinAlgError:
+        return None
+    return X if np.all(np.isfinite(X)) else None
+
+
+
 class ModeSolver:
     """Evaluate the motion of a model in a mode, in a given formalism.
 
@@ -193,6 +257,7 @@ class ModeSolver:
         self._forms: dict[tuple, FormSystem] = entry[0]
         self._active: dict[tuple, FormSystem] = {}
         self._elim_rows: dict[tuple, list[int]] = {}
+        self._refused: set[tuple] = set()
         self._layouts: dict[tuple, list[RowSpec]] = {}
         self.x = kernel.layout.make(params)
         self.n = kernel.n
@@ -338,8 +403,8 @@ class ModeSolver:
 
     def _current_form(self, mode: Mode, Gm: np.ndarray, layout: list[RowSpec]) -> FormSystem:
         """The form for *mode*; when the user did not fix the independent coordinates and the
-        dependent block of the current choice is ill-conditioned at this state, re-partition
-        (pivoted QR at the state) -- coordinate partitioning, as in multibody codes."""
+        current choice is far from the best-conditioned one at this state, re-partition
+        (:func:`_better_partition`) -- coordinate partitioning, as in multibody codes."""
         key = mode.structure
         fs = self._active.get(key) or self.form_system(mode)
         # Lagrange II eliminates coordinates on a chart (a root of the constraints chosen at the
@@ -356,26 +421,16 @@ class ModeSolver:
         coords = list(self.model.coordinates)
         Gi = Gm[ideal]
         dep = [coords.index(c) for c in coords if c not in fs.eom.independent]
-        # Hadamard ratio |det G_D| / prod |G_i| in [0, 1], per row (geometric mean): cheap (one
-        # small LU) on every call; small when the dependent block is nearly singular
-        norms = np.sqrt(np.einsum("ij,ij->i", Gi, Gi))
-        if len(dep) == len(ideal):
-            ratio = (abs(np.linalg.det(Gi[:, dep])) / max(float(np.prod(norms)), 1e-300)) ** (1.0 / len(dep))
-        else:
-            ratio = 0.0
-        if ratio < 0.1:
-            # re-partition at the best-conditioned choice (pivoted QR at this state); the
-            # hysteresis between 0.1 and the new choice's ratio avoids switching back and forth
-            from scipy.linalg import qr
-
-            _, _, piv = qr(Gi, pivoting=True)
-            new_dep = sorted(piv[:len(ideal)])
+        new_dep = _better_partition(Gi, dep)
+        if new_dep is not None:
             ind = tuple(c for j, c in enumerate(coords) if j not in new_dep)
-            if set(new_dep) != set(dep):
+            if (key, ind) not in self._refused:
                 try:
                     fs = self.form_system(mode, ind)
                 except FormNotApplicable:
-                    pass  # e.g. Shulgin when the explicit coefficients would be too large
+                    # e.g. Shulgin when the explicit coefficients would be too large: keep the
+                    # current partition, and do not try this one again
+                    self._refused.add((key, ind))
         self._active[key] = fs
         return fs
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from nonideal import gallery, simulate
-from nonideal.modes import Mode, ModeSolver
+from nonideal.modes import ContactState, Mode, ModeSolver
 from nonideal.numeric import kernel_of, parameter_vector
 
 
@@ -42,3 +42,39 @@ def test_hybrid_car_motion_does_not_depend_on_the_form(form):
     for a, b in zip(tr.events, ref.events):
         assert a["t"] == pytest.approx(b["t"], rel=1e-8)
     assert tr.q[-1] == pytest.approx(ref.q[-1], rel=1e-6, abs=1e-6)
+
+
+def test_partition_criterion_is_the_exchange_factor():
+    from nonideal.modes import REPARTITION_GAIN, _better_partition
+
+    # one knife edge -x' sin(psi) + y' cos(psi) = 0 in (x, y, psi): y' = tan(psi) x'
+    def row(psi):
+        return np.array([[-np.sin(psi), np.cos(psi), 0.0]])
+
+    assert _better_partition(row(0.3), [1]) is None  # |tan 0.3| < gain: keep y dependent
+    assert _better_partition(row(np.arctan(REPARTITION_GAIN) - 1e-3), [1]) is None
+    assert _better_partition(row(np.arctan(REPARTITION_GAIN) + 1e-3), [1]) == [0]
+    assert _better_partition(row(np.pi / 2), [1]) == [0]  # singular choice
+    # after the switch, switching back needs |cot psi| > gain (hysteresis)
+    assert _better_partition(row(np.arctan(1 / 2)), [0]) is None
+
+
+def test_reduced_forms_keep_their_digits_where_the_motion_leaves_a_coordinate():
+    # the kinematic car turning through psi ~ pi/2: with x independent, the dependent
+    # velocities are large multiples of x' (the centre of mass moves almost along y), and a
+    # reduced form lost 1e-11 to cancellation before the exchange-factor criterion (the
+    # Hadamard ratio of the dependent block did not see it); DOP853 at rtol 1e-11 then took
+    # 40x more steps
+    m = gallery.load("car-on-a-turn")
+    times = list(np.linspace(2.0, 3.0, 9))
+    ref = simulate(m, t_end=3.0, times=times)
+    k, p = kernel_of(m), parameter_vector(m)
+    l1 = ModeSolver(k, p, "lagrange1")
+    stick = Mode(contacts=(("rear", ContactState("stick")), ("front", ContactState("stick"))))
+    for form in ("maggi", "appell", "shulgin"):
+        s = ModeSolver(k, p, form)
+        for t, q, qd in zip(ref.t, ref.q, ref.qd):
+            q, qd = np.array(q), np.array(qd)
+            a = s.solve(t, q, qd, stick).qdd
+            b = l1.solve(t, q, qd, stick).qdd
+            assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b)), (form, t)
