@@ -20,6 +20,7 @@ from .errors import (
     SingularSystem,
 )
 from .formalisms import FORMS, derive
+from .mechanics import model_from_mechanics
 from .model import Constraint, Model, Parameter, SimulationSettings
 from .simulation import Simulation, simulate
 from .trajectory import Trajectory
@@ -27,7 +28,7 @@ from .trajectory import Trajectory
 __version__ = "0.1.0"
 
 __all__ = [
-    "Model", "Parameter", "Constraint", "SimulationSettings",
+    "Model", "Parameter", "Constraint", "SimulationSettings", "model_from_mechanics",
     "Particle", "PlanarBody", "RigidBody", "Force", "Torque",
     "Contact", "Coulomb", "RegularizedCoulomb", "LinearizedCoulomb", "Plastic", "Newton",
     "EquationsOfMotion", "FORMS", "derive", "simulate", "Simulation", "Trajectory",
