@@ -105,3 +105,15 @@ def test_derive_with_contact_states_and_painleve_representation(capsys):
     assert code == 0 and "mu_1" in out
     code, _, err = run(capsys, "derive", ROUGH, "--contact", "lin=stick")
     assert code == 2 and "did you mean 'line'" in err
+
+
+def test_painleve_representation_closes_only_the_touching_contacts(capsys):
+    # the rod touches with A only; closing B too would lay it flat (theta eliminated)
+    code, out, _ = run(capsys, "derive", DATA / "rod_two_ends.toml", "--friction", "painleve", "--form", "maggi")
+    assert code == 0 and "eliminated: A\n" in out and "unknowns: x'', theta''" in out
+    code, out, _ = run(capsys, "derive", DATA / "rod_two_ends.toml", "--friction", "painleve", "--form", "maggi",
+                       "--contact", "B=slide+")
+    assert code == 0 and "eliminated: A, B" in out and "unknowns: x''\n" in out
+    code, _, err = run(capsys, "derive", DATA / "rod_two_ends.toml", "--friction", "painleve",
+                       "--contact", "A=separated")
+    assert code == 2 and "no contact to close" in err
