@@ -306,9 +306,10 @@ def cmd_derive(args) -> int:
     independent = _independent(args.independent, model)
     states = _contact_states(args.contact, model)
     if args.friction == "painleve":
-        from .friction_law import painleve_model
+        from .friction_law import painleve_model, touching_contacts
 
-        eom = derive(painleve_model(model)[0], args.form, independent=independent)
+        closed = touching_contacts(model, states) if model.contacts else None
+        eom = derive(painleve_model(model, closed)[0], args.form, independent=independent)
     elif model.contacts:
         from .friction_law import derive_in_mode
 
@@ -541,8 +542,9 @@ def build_parser() -> argparse.ArgumentParser:
                    "or slide (two); repeatable; default: its state at t0")
     d.add_argument("--friction", choices=["physical", "painleve"], default="physical",
                    help="physical: a sliding contact's normal force carries -mu N s (default); "
-                   "painleve: contacts as ideal constraints plus the friction force M V mu of the "
-                   "seed's extended method of combining constraints")
+                   "painleve: the touching contacts (at t0, or not separated by --contact) as ideal "
+                   "constraints plus the friction force M V mu of the seed's extended method of "
+                   "combining constraints")
     d.set_defaults(func=cmd_derive)
 
     e = sub.add_parser("evaluate", help="accelerations, multipliers and reactions at one state",

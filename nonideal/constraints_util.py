@@ -18,7 +18,8 @@ def contact_gap_constraints(model: Model, contacts=None) -> tuple[Model, list[st
     names = [c.name for c in model.contacts] if contacts is None else list(contacts)
     chosen = [c for c in model.contacts if c.name in names]
     if not chosen:
-        raise FormNotApplicable("painleve representation: the model has no (such) contacts")
+        raise FormNotApplicable("painleve representation: no contact to close (the model has no contacts, "
+                                "or none of those asked for touches; e.g. --contact NAME=slide+ closes one)")
     constraints = list(model.constraints) + [Constraint(c.name, c.gap, "holonomic") for c in chosen]
     base = model.replace(constraints=tuple(constraints),
                          contacts=tuple(c for c in model.contacts if c.name not in names))
@@ -28,6 +29,11 @@ def contact_gap_constraints(model: Model, contacts=None) -> tuple[Model, list[st
         raise FormNotApplicable("painleve representation: the velocity basis is too large to write "
                                 "explicitly; use the physical representation")
     k = len(red.independent)
+    if k == 0:
+        raise FormNotApplicable("painleve representation: with the contacts " + ", ".join(
+            f"'{c.name}'" for c in chosen) + " closed the system has no possible velocity (no degree "
+            "of freedom is left for the friction force M V mu); close only the contacts that touch "
+            "together (e.g. --contact NAME=separated for the others)")
     taken = set(model.parameters) | set(model.coordinates)
     mu_names = []
     for j in range(k):

@@ -169,6 +169,35 @@ def painleve_model(model: Model, contacts=None) -> tuple[Model, list[str]]:
     return contact_gap_constraints(model, contacts)
 
 
+def touching_contacts(model: Model, states: dict | None = None) -> list[str]:
+    """The contacts that touch in the mode the simulation starts in (their state at the
+    model's initial state; *states* -- contact -> state, as for :func:`derive_in_mode` --
+    overrides it): the contacts the Painleve representation closes by default.  A contact
+    that does not touch (e.g. the top of a ladder that reaches the floor only when the ladder
+    falls flat) must not be closed together with the others."""
+    from .consistency import complete_state
+    from .modes import ModeSolver
+    from .numeric import kernel_of, parameter_vector
+    from .switching import select_mode
+
+    names = [c.name for c in model.contacts]
+    states = dict(states or {})
+    for k, v in states.items():
+        if k not in names:
+            raise FormNotApplicable(f"--contact: no contact '{k}'{did_you_mean(k, names)}")
+        if v not in CONTACT_STATES:
+            raise FormNotApplicable(f"--contact {k}: state '{v}' unknown{did_you_mean(v, CONTACT_STATES)}; "
+                                    "use " + ", ".join(CONTACT_STATES))
+    if len(states) < len(names):
+        kernel = kernel_of(model)
+        params = parameter_vector(model)
+        q, qd, _ = complete_state(kernel, model.numeric_initial(), params, model.t0)
+        mode = select_mode(ModeSolver(kernel, params), model.t0, q, qd)
+        for name, cs in mode.contacts:
+            states.setdefault(name, cs.label().replace("(N<0)", ""))
+    return [n for n in names if states[n] != "separated"]
+
+
 CONTACT_STATES = ("separated", "stick", "slide+", "slide-", "slide")
 
 

@@ -7,9 +7,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from nonideal import gallery
 from nonideal.cli import main
 
 DATA = Path(__file__).parent / "data" / "friction"
+ROUGH = gallery.model_path("painleve-two-points-rough")
 
 
 def run(capsys, *argv):
@@ -19,7 +21,7 @@ def run(capsys, *argv):
 
 
 def test_evaluate_json_reports_mode_forces_and_split(capsys):
-    code, out, _ = run(capsys, "evaluate", DATA / "painleve_two_points_rough.toml", "--json")
+    code, out, _ = run(capsys, "evaluate", ROUGH, "--json")
     assert code == 0
     d = json.loads(out)
     line = d["contacts"]["line"]
@@ -31,8 +33,8 @@ def test_evaluate_json_reports_mode_forces_and_split(capsys):
 
 
 def test_evaluate_with_gauss_equals_lagrange1(capsys):
-    a = json.loads(run(capsys, "evaluate", DATA / "painleve_two_points_rough.toml", "--json")[1])
-    b = json.loads(run(capsys, "evaluate", DATA / "painleve_two_points_rough.toml", "--json",
+    a = json.loads(run(capsys, "evaluate", ROUGH, "--json")[1])
+    b = json.loads(run(capsys, "evaluate", ROUGH, "--json",
                        "--form", "gauss")[1])
     for c in a["qddot"]:
         assert b["qddot"][c] == pytest.approx(a["qddot"][c], rel=1e-10, abs=1e-12)
@@ -85,7 +87,7 @@ def test_realizability_reports_when_rolling_is_not_realizable(capsys):
 
 
 def test_friction_law_command(capsys):
-    code, out, _ = run(capsys, "friction-law", DATA / "painleve_two_points_rough.toml",
+    code, out, _ = run(capsys, "friction-law", ROUGH,
                        "--contact", "line", "--substitute", "x1 = x + l*cos(theta), y1 = y + l*sin(theta)",
                        "--json")
     assert code == 0
@@ -95,11 +97,23 @@ def test_friction_law_command(capsys):
 
 
 def test_derive_with_contact_states_and_painleve_representation(capsys):
-    code, out, _ = run(capsys, "derive", DATA / "painleve_two_points_rough.toml", "--contact",
+    code, out, _ = run(capsys, "derive", ROUGH, "--contact",
                        "line=slide-", "--form", "lagrange1")
     assert code == 0 and "sliding (slide-)" in out and "f*lambda_line" in out
-    code, out, _ = run(capsys, "derive", DATA / "painleve_two_points_rough.toml", "--friction",
+    code, out, _ = run(capsys, "derive", ROUGH, "--friction",
                        "painleve", "--form", "maggi")
     assert code == 0 and "mu_1" in out
-    code, _, err = run(capsys, "derive", DATA / "painleve_two_points_rough.toml", "--contact", "lin=stick")
+    code, _, err = run(capsys, "derive", ROUGH, "--contact", "lin=stick")
     assert code == 2 and "did you mean 'line'" in err
+
+
+def test_painleve_representation_closes_only_the_touching_contacts(capsys):
+    # the rod touches with A only; closing B too would lay it flat (theta eliminated)
+    code, out, _ = run(capsys, "derive", DATA / "rod_two_ends.toml", "--friction", "painleve", "--form", "maggi")
+    assert code == 0 and "eliminated: A\n" in out and "unknowns: x'', theta''" in out
+    code, out, _ = run(capsys, "derive", DATA / "rod_two_ends.toml", "--friction", "painleve", "--form", "maggi",
+                       "--contact", "B=slide+")
+    assert code == 0 and "eliminated: A, B" in out and "unknowns: x''\n" in out
+    code, _, err = run(capsys, "derive", DATA / "rod_two_ends.toml", "--friction", "painleve",
+                       "--contact", "A=separated")
+    assert code == 2 and "no contact to close" in err

@@ -14,25 +14,21 @@ coordinates (x, y, x1, y1).  The seed's claims checked here:
   x' > 0 law would make friction accelerate the point).
 """
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 import sympy as sp
 
-from nonideal import simulate
+from nonideal import gallery, simulate
 from nonideal.crosscheck import compare_forms
 from nonideal.evaluation import evaluate
 from nonideal.friction_law import friction_law, painleve_model
 from nonideal.formalisms import derive
-from nonideal.modelfile import load_model
-
-DATA = Path(__file__).parent / "data" / "friction"
 
 
 @pytest.fixture(scope="module")
 def model():
-    return load_model(DATA / "painleve_two_points_rough.toml")
+    # the gallery's model file (nonideal/gallery/painleve_two_points_rough.toml)
+    return gallery.load("painleve-two-points-rough")
 
 
 def _state(theta, thetad, xd):
