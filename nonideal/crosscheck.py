@@ -33,14 +33,17 @@ class CrossCheck:
         return max(list(self.accelerations.values()) + list(self.multipliers.values()) + [0.0])
 
 
-def _rel(a: np.ndarray, b: np.ndarray, floor: float = 1e-9) -> float:
-    """Relative disagreement; *floor* keeps a zero reference (a body at rest) meaningful."""
+def _rel(a: np.ndarray, b: np.ndarray, scale: float = 0.0) -> float:
+    """Relative disagreement of *a* with the reference *b*, measured against ``|b|_inf`` or
+    the size *scale* of the terms that produce it, whichever is larger: a reference that
+    vanishes by cancellation (a body held at rest by its reactions) is compared with the
+    forces that cancel, not with round-off."""
     if a.size == 0:
         return 0.0
     diff = np.abs(a - b)
     if not np.all(np.isfinite(diff)):
         return float("inf")
-    return float(np.max(diff) / max(np.max(np.abs(b)), floor))
+    return float(np.max(diff) / max(np.max(np.abs(b)), scale, 1e-300))
 
 
 def _on_chart(solver: ModeSolver, mode: Mode, t, q, qd, cache) -> bool:
@@ -115,15 +118,21 @@ def compare_forms(model: Model, forms=None, count: int = 20, seed: int = 0,
     for t, q, qd in states:
         mode = _contact_mode(ref, t, q, qd, held, contact_state)
         r = ref.solve(t, q, qd, mode)
+        # the sizes of the terms: accelerations of the free system, generalized forces
+        force_scale = float(np.max(np.abs(r.F), initial=0.0))
+        try:
+            accel_scale = float(np.max(np.abs(np.linalg.solve(r.M, r.F)), initial=0.0))
+        except np.linalg.LinAlgError:   # a singular M (massless coordinates): no such scale
+            accel_scale = 0.0
         for f, s in solvers.items():
             if not _on_chart(s, mode, t, q, qd, charts):
                 report.off_chart[f] = report.off_chart.get(f, 0) + 1
                 continue
             sol = s.solve(t, q, qd, mode)
-            report.accelerations[f] = max(report.accelerations[f], _rel(sol.qdd, r.qdd))
+            report.accelerations[f] = max(report.accelerations[f], _rel(sol.qdd, r.qdd, accel_scale))
             keys = [k for k in sol.direct if k in r.direct]
             if keys:
                 a = np.array([sol.direct[k] for k in keys])
                 b = np.array([r.direct[k] for k in keys])
-                report.multipliers[f] = max(report.multipliers[f], _rel(a, b))
+                report.multipliers[f] = max(report.multipliers[f], _rel(a, b, force_scale))
     return report
