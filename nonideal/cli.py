@@ -76,7 +76,10 @@ class _Outputs:
                                      f"{exc.strerror or exc}") from None
                 except ValueError as exc:   # e.g. an image format matplotlib does not know
                     raise ModelError(f"{option} {path}: cannot write: {exc}") from None
+            mask = os.umask(0)      # mkstemp creates 0600: give the files the usual mode
+            os.umask(mask)
             for tmp, path in staged:
+                os.chmod(tmp, 0o666 & ~mask)
                 os.replace(tmp, path)
         finally:
             for tmp, _ in staged:

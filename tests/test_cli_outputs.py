@@ -209,3 +209,18 @@ def test_contact_keys_in_simulate_and_evaluate_json(capsys):
     contact = json.loads(out)["contacts"]["floor"]
     assert {"mode", "normal", "friction", "slip"} <= set(contact)
     assert contact["normal"] > 0
+
+
+def test_outputs_get_the_usual_file_mode(capsys, tmp_path):
+    # staged through a 0600 temporary file, the outputs must still honour the umask
+    import os
+    import stat
+
+    mask = os.umask(0o022)
+    try:
+        code, _, _ = cli(capsys, "simulate", PENDULUM, "--t-end", "0.1", *outputs_argv(tmp_path))
+    finally:
+        os.umask(mask)
+    assert code == 0
+    for name in OUTPUTS:
+        assert stat.S_IMODE((tmp_path / name).stat().st_mode) == 0o644, name
