@@ -114,8 +114,11 @@ def parse_state(model: Model, text: str | None) -> dict[str, float]:
 def _complete_at(kernel, model: Model, at, params, t):
     """The state at ``--at``: its values over the model's initial ones.  If that mix violates a
     constraint (the user moved a coordinate the initial values of others depended on), the
-    initial values of the level ``--at`` touches are used only as start values and the rest is
-    completed from the constraints -- velocities first, then coordinates."""
+    initial coordinates not given at ``--at`` become start values for the completion, and the
+    initial velocities not given are kept where they can be -- as many as possible, the
+    dependent ones completed from the constraints."""
+    import itertools
+
     from .errors import InconsistentInitialConditions
 
     init = dict(model.numeric_initial())
@@ -123,29 +126,32 @@ def _complete_at(kernel, model: Model, at, params, t):
     try:
         q, qd, _ = complete_state(kernel, given, params, t)
         return q, qd
-    except InconsistentInitialConditions:
+    except InconsistentInitialConditions as exc:
         if not at:
             raise
-    first_error = None
+        first_error = exc
     coords = set(model.coordinates)
+    velocities = [k for k in init if k.endswith("'") and k not in at]
     for drop_coords in (False, True):
-        given = dict(at)
-        guess = {}
+        base, guess = dict(at), {}
         for k, v in init.items():
-            if k in given:
+            if k in at or k.endswith("'"):
                 continue
-            if k.endswith("'"):
-                continue  # velocities not given at --at are completed
             if drop_coords and any(c in coords for c in at):
                 guess[k] = v
             else:
-                given[k] = v
-        try:
-            q, qd, _ = complete_state(kernel, given, params, t, guess=guess)
-            return q, qd
-        except InconsistentInitialConditions as exc:
-            first_error = first_error or exc
-    raise first_error
+                base[k] = v
+        for k in range(len(velocities) + 1):
+            for dropped in itertools.combinations(velocities, k):
+                trial = {**base, **{v: init[v] for v in velocities if v not in dropped}}
+                try:
+                    q, qd, _ = complete_state(kernel, trial, params, t, guess=guess)
+                    return q, qd
+                except InconsistentInitialConditions:
+                    continue
+    problems = [p.replace("[initial]:", "--at (other values from [initial]):", 1)
+                for p in first_error.problems]
+    raise InconsistentInitialConditions(problems, first_error.source) from None
 
 
 def painleve_split(M: np.ndarray, G: np.ndarray, R: np.ndarray):

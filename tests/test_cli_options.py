@@ -102,6 +102,23 @@ def test_at_accepts_expressions_in_the_parameters(capsys):
     assert result["q"] == {"x": 0.6, "y": -0.8}
 
 
+def test_at_moving_a_coordinate_completes_the_dependent_ones(capsys):
+    # x moved: y is completed from the rod, one initial velocity is kept, the other completed
+    import math
+
+    code, out, err = cli(capsys, "evaluate", PENDULUM, "--at", "x=0.3", "--json")
+    assert code == 0, err
+    r = json.loads(out)
+    assert r["q"]["y"] == pytest.approx(-math.sqrt(1 - 0.09), rel=1e-12)
+    assert r["q"]["x"] * r["qdot"]["x"] + r["q"]["y"] * r["qdot"]["y"] == pytest.approx(0, abs=1e-12)
+
+
+def test_at_inconsistent_names_at_not_initial(capsys):
+    code, out, err = cli(capsys, "evaluate", PENDULUM, "--at", "x=0.3, y=0.1")
+    assert code == 2
+    assert "--at (other values from [initial]): constraint 'rod' is violated" in err
+
+
 @pytest.mark.parametrize("times, message", [
     ("0,a,1", "--times: 'a' is not a finite number; write comma-separated numbers, e.g. --times 0,0.5,1"),
     ("0,nan", "--times: 'nan' is not a finite number"),
