@@ -61,7 +61,8 @@ class CheckReport:
                          f"{con['reaction']}{', unilateral' if con['unilateral'] else ''}: {con['expr']} "
                          f"{'>=' if con['unilateral'] else '='} 0")
         for ct in self.contacts:
-            lines.append(f"    - contact {ct['name']}: gap {ct['gap']} >= 0, slip {ct['slip']}, "
+            held = "= 0 (bilateral guide, N of either sign)" if ct["bilateral"] else ">= 0"
+            lines.append(f"    - contact {ct['name']}: gap {ct['gap']} {held}, slip {ct['slip']}, "
                          f"friction {ct['friction']}")
         lines.append("  initial state: " + ", ".join(f"{k} = {v:.10g}" for k, v in self.initial.items()))
         lines.append(f"  initial mode: {self.initial_mode}")

@@ -411,9 +411,14 @@ def cmd_simulate(args) -> int:
               f"({d['samples']} samples, {d['events']} events, form {d['form']}, {d['method']})")
         for k, c in enumerate(traj.coordinates):
             print(f"  {c:>10}(t_end) = {traj.q[-1, k]: .12g}   {c}'(t_end) = {traj.qd[-1, k]: .12g}")
-        for e in traj.events:
+        shown = traj.events if len(traj.events) <= 24 else traj.events[:20]
+        for e in shown:
             print(f"  event at t = {e['t']:.12g}: {e['type']} {e.get('constraint', e.get('contact', ''))}"
                   f" -> mode [{e.get('mode', '')}]")
+        if len(shown) < len(traj.events):
+            last = traj.events[-1]
+            print(f"  ... {len(traj.events) - len(shown)} more events, the last at t = {last['t']:.12g} "
+                  f"-> mode [{last.get('mode', '')}] (all of them: --json or --csv)")
         print(f"  constraint residual max = {d['constraint_residual_max']:.3e}, "
               f"energy balance (relative) = {d['energy_balance_relative']:.3e}")
     return 0
