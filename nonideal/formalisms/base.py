@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import symengine as se
+from scipy.linalg.lapack import zgesv as _zgesv
 
 from ..dynamics import ConstraintRow, Dynamics, count_ops
 from ..eom import Auxiliary, EquationsOfMotion
@@ -59,14 +60,35 @@ def _random_point(rng: random.Random, count: int) -> list[float]:
     return [rng.uniform(0.2, 1.1) * rng.choice((-1, 1)) for _ in range(count)]
 
 
-def _evaluate(dyn: Dynamics, exprs: list, points: list[list[float]]) -> list[np.ndarray]:
+def _evaluate(dyn: Dynamics, exprs: list, points: list[list[float]],
+              auxiliaries: tuple[Auxiliary, ...] = ()) -> list[np.ndarray]:
     """Complex values of *exprs* at *points* (values of ``q, q', q'', t``; the parameters'
-    values are appended), through one compiled function (no per-entry substitution)."""
+    values are appended), through one compiled function (no per-entry substitution).
+
+    Auxiliary symbols take the values that solve their linear systems at each point.
+    """
     syms = dyn.q + dyn.qd + dyn.qdd + [dyn.t]
     pvals = list(dyn.model.parameter_values.values())
-    fn = se.Lambdify(syms + dyn.params, [se.sympify(e) for e in exprs], real=False, cse=False)
-    return [np.asarray(fn(np.array(list(point) + pvals, dtype=complex)), dtype=complex).ravel()
-            for point in points]
+    aux_syms = [s for aux in auxiliaries for s in aux.symbols]
+    fn = se.Lambdify(syms + dyn.params + aux_syms, [se.sympify(e) for e in exprs], real=False, cse=False)
+    systems = []
+    for aux in auxiliaries:
+        # only the nonzero entries are compiled (block systems are mostly zeros)
+        entries = [(i, e) for i, e in enumerate(list(aux.K) + list(aux.Y)) if e != 0]
+        fk = se.Lambdify(syms + dyn.params, [e for _, e in entries], real=False, cse=False)
+        systems.append((fk, [i for i, _ in entries], aux.K.shape, aux.Y.shape))
+    out = []
+    for point in points:
+        base = np.array(list(point) + pvals, dtype=complex)
+        values = [base]
+        for fk, where, kshape, yshape in systems:
+            ky = np.zeros(kshape[0] * kshape[1] + yshape[0] * yshape[1], dtype=complex)
+            ky[where] = np.asarray(fk(base), dtype=complex).ravel()
+            K, Y = ky[:kshape[0] * kshape[1]].reshape(kshape), ky[kshape[0] * kshape[1]:].reshape(yshape)
+            X, info = _zgesv(K, Y)[2:]
+            values.append(X.ravel() if info == 0 else np.full(Y.size, np.nan, dtype=complex))
+        out.append(np.asarray(fn(np.concatenate(values)), dtype=complex).ravel())
+    return out
 
 
 def numeric_instances(dyn: Dynamics, exprs: list, count: int = 2, seed: int = 7,
@@ -336,15 +358,16 @@ def transpose_times(V, x, n: int, k: int):
 
 
 def vanishing(dyn: Dynamics, groups: list[list], count: int = 4, seed: int = 11,
-              rtol: float = 1e-9) -> list[bool]:
+              rtol: float = 1e-9, auxiliaries: tuple[Auxiliary, ...] = ()) -> list[bool]:
     """Which sums vanish identically, judged at *count* generic points.
 
     Each group lists the terms of one sum.  A sum is taken as zero when, at every generic
-    point (random ``q, q', q'', t``; the parameter values) where its terms are finite,
-    ``|sum| <= rtol * sum |term|`` -- complex values included (a square root of a negative
-    number at a random point is no reason to keep a term) -- and at least two points were
-    informative.  A group of symbolically zero terms is zero.  Cheap: one compiled complex
-    evaluation of all terms, no simplification.
+    point (random ``q, q', q'', t``; the parameter values; *auxiliaries* solved there) where
+    its terms are finite, ``|sum| <= rtol * sum |term|`` -- complex values included (a square
+    root of a negative number at a random point is no reason to keep a term; terms that are
+    all exactly zero there, e.g. auxiliary symbols whose values vanish, count as zero) -- and
+    at least two points gave finite terms.  A group of symbolically zero terms is zero.  Cheap: one
+    compiled complex evaluation of all terms, no simplification.
     """
     exprs = [[se.sympify(e) for e in g] for g in groups]
     zero = [all(e == 0 for e in g) for g in exprs]
@@ -354,7 +377,13 @@ def vanishing(dyn: Dynamics, groups: list[list], count: int = 4, seed: int = 11,
     rng = random.Random(seed)
     points = [_random_point(rng, 3 * dyn.n + 1) for _ in range(count)]
     with np.errstate(all="ignore"):
-        values = _evaluate(dyn, flat, points)
+        values = _evaluate(dyn, flat, points, auxiliaries)
+    # rounding noise of auxiliary values (1e-16 where a coefficient is exactly constant) is
+    # judged against the largest sum of the point, not against its own vanishing terms
+    scales = []
+    for vals in values:
+        finite = np.abs(vals[np.isfinite(vals)])
+        scales.append(float(finite.max()) if finite.size else 0.0)
     out = []
     pos = 0
     for g, z in zip(exprs, zero):
@@ -364,13 +393,11 @@ def vanishing(dyn: Dynamics, groups: list[list], count: int = 4, seed: int = 11,
         sl = slice(pos, pos + len(g))
         pos += len(g)
         ok, informative = True, 0
-        for vals in values:
+        for vals, scale in zip(values, scales):
             v = vals[sl]
             if not np.all(np.isfinite(v)):
                 continue
-            mag = float(np.sum(np.abs(v)))
-            if mag == 0.0:
-                continue
+            mag = max(float(np.sum(np.abs(v))), 1e-6 * scale if auxiliaries else 0.0)
             informative += 1
             if abs(np.sum(v)) > rtol * mag:
                 ok = False
