@@ -104,44 +104,52 @@ class EquationsOfMotion:
 
     # ---------------------------------------------------------------- SymPy views
     @cached_property
+    def _memo(self) -> dict:
+        """SymEngine -> SymPy nodes converted so far (the views share subexpressions)."""
+        return {}
+
+    def _sp(self, expr):
+        return to_sp(expr, self._memo)
+
+    @cached_property
     def mass_matrix(self) -> sp.Matrix:
         """``A``, shape (k, k)."""
-        return to_sp(self.A_)
+        return self._sp(self.A_)
 
     @cached_property
     def inertial_terms(self) -> sp.Matrix:
         """``c``: velocity-dependent inertia terms on the left, shape (k, 1)."""
-        return to_sp(self.c_)
+        return self._sp(self.c_)
 
     @cached_property
     def generalized_forces(self) -> sp.Matrix:
         """``Q_f``: active generalized forces on the right, shape (k, 1)."""
-        return to_sp(self.Qf_)
+        return self._sp(self.Qf_)
 
     @cached_property
     def forcing(self) -> sp.Matrix:
         """``b = Q_f - c`` so that ``A a = b + B mu``, shape (k, 1)."""
-        return self.generalized_forces - self.inertial_terms
+        return self._sp(self.Qf_ - self.c_)
 
     @cached_property
     def reaction_matrix(self) -> sp.Matrix:
         """``B``, shape (k, n_mult)."""
-        return to_sp(self.B_)
+        return self._sp(self.B_)
 
     @cached_property
     def constraint_jacobian(self) -> sp.Matrix:
         """``G``, shape (n_mult, k)."""
-        return to_sp(self.G_)
+        return self._sp(self.G_)
 
     @cached_property
     def constraint_bias(self) -> sp.Matrix:
         """``gamma``, shape (n_mult, 1)."""
-        return to_sp(self.gamma_)
+        return self._sp(self.gamma_)
 
     @cached_property
     def acceleration_map(self) -> tuple[sp.Matrix, sp.Matrix]:
         """``(R, r)`` with ``q'' = R a + r``."""
-        return to_sp(self.R_), to_sp(self.r_)
+        return self._sp(self.R_), self._sp(self.r_)
 
     @property
     def unknown_symbols(self) -> list[sp.Symbol]:
@@ -156,7 +164,7 @@ class EquationsOfMotion:
         """Form-specific symbolic objects (``S`` for Appell, ``T*`` for Shulgin...), SymPy."""
         out = {}
         for key, value in self.extras_.items():
-            out[key] = to_sp(value) if not isinstance(value, str) else value
+            out[key] = self._sp(value) if not isinstance(value, str) else value
         return out
 
     def equations(self) -> list[sp.Eq]:

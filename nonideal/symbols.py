@@ -32,6 +32,7 @@ from __future__ import annotations
 import keyword
 import re
 from collections.abc import Iterable, Mapping
+from functools import cmp_to_key
 
 import symengine as se
 import sympy as sp
@@ -85,14 +86,93 @@ def to_se(expr):
     return se.sympify(expr)
 
 
-def to_sp(expr):
-    """SymEngine (or nested list/Matrix) -> SymPy."""
+def to_sp(expr, memo: dict | None = None):
+    """SymEngine (or nested list/Matrix) -> SymPy, without re-canonicalizing.
+
+    SymEngine's expressions are already canonical, and SymPy's constructors would spend most
+    of the conversion re-flattening and re-sorting them (and converting every shared
+    subexpression once per occurrence).  The tree is therefore rebuilt node by node, each
+    distinct SymEngine node once (*memo*, which callers converting several related
+    expressions may share), with the arguments sorted in SymPy's canonical order and the
+    node created directly.  SymPy's evaluating constructors are used only where SymPy's
+    canonical form differs from SymEngine's (``-(x + y)`` is ``-x - y`` in SymPy, a sum of
+    sums is flattened, ``E**x`` is ``exp(x)``), and for function nodes, so the result
+    equals what ``sympy.sympify`` builds in the cases that occur in the equations of motion
+    (pendulum, knife chain: all entries structurally equal).
+
+    Parameters
+    ----------
+    expr : se.Basic, se.DenseMatrix, number, or nested list/tuple of them
+    memo : dict, optional
+        SymEngine node -> SymPy node, filled as a side effect.
+
+    Returns
+    -------
+    sympy.Basic, sympy.Matrix, or list
+
+    Examples
+    --------
+    >>> import symengine as se
+    >>> x, y = se.symbols("x y")
+    >>> to_sp(-(x + 2*y)), to_sp(-(x + 2*y)*se.cos(x))
+    (-x - 2*y, -(x + 2*y)*cos(x))
+    """
+    if memo is None:
+        memo = {}
     if isinstance(expr, (list, tuple)):
-        return [to_sp(e) for e in expr]
+        return [to_sp(e, memo) for e in expr]
     if isinstance(expr, se.DenseMatrix):
         rows, cols = expr.shape
-        return sp.Matrix(rows, cols, [sp.sympify(e) for e in expr])
-    return sp.sympify(expr)
+        return sp.Matrix(rows, cols, [_convert(e, memo) for e in expr])
+    if not isinstance(expr, se.Basic):
+        return sp.sympify(expr)
+    return _convert(expr, memo)
+
+
+_CANONICAL_ORDER = cmp_to_key(sp.Basic.compare)   # the key of SymPy's Add/Mul.flatten
+
+
+def _convert(root, memo: dict):
+    """Post-order conversion of one SymEngine tree (explicit stack: deep trees are fine)."""
+    stack = [root]
+    while stack:
+        node = stack[-1]
+        if node in memo:
+            stack.pop()
+            continue
+        args = node.args
+        pending = [a for a in args if a not in memo]
+        if pending:
+            stack.extend(pending)
+            continue
+        stack.pop()
+        memo[node] = _node(node, [memo[a] for a in args])
+    return memo[root]
+
+
+def _node(node, args: list):
+    """The SymPy node for a SymEngine *node* whose arguments are already converted."""
+    if not args:
+        return node._sympy_()          # symbols, numbers, constants
+    if isinstance(node, se.Add):
+        if any(a.is_Add for a in args):
+            return sp.Add(*args)       # a term became a sum (-(x + y) -> -x - y): flatten
+        args.sort(key=_CANONICAL_ORDER)
+        return sp.Add._from_args(args, is_commutative=True)
+    if isinstance(node, se.Mul):
+        args.sort(key=_CANONICAL_ORDER)
+        if (len(args) == 2 and args[0].is_Rational and args[1].is_Add) or any(a.is_Mul for a in args):
+            return sp.Mul(*args)       # SymPy distributes a number over a sum
+        return sp.Mul._from_args(args, is_commutative=True)
+    if isinstance(node, se.Pow):
+        base, exponent = args
+        if base.is_number:
+            return sp.Pow(base, exponent)   # E**x -> exp(x), 2**(1/2) -> sqrt(2)
+        return sp.Pow(base, exponent, evaluate=False)
+    function = getattr(sp, type(node).__name__, None)
+    if isinstance(node, se.Function) and isinstance(function, type) and issubclass(function, sp.Function):
+        return function(*args)
+    return node._sympy_()              # anything else: SymEngine's own (evaluating) conversion
 
 
 def _latex_base(name: str) -> str:

@@ -193,14 +193,59 @@ def test_nonlinear_and_second_order_constraints_are_refused():
         derive(second, "shulgin")
 
 
-def test_auxiliary_velocity_coefficients_are_refused():
+def test_knife_chain_8_keeps_its_coefficients_as_auxiliary_symbols_and_agrees_with_lagrange1():
+    # written out, the k-th dependent velocity of the chain contains all the earlier ones (the
+    # size doubles per link); Shulgin's coefficients and their derivatives become symbols
+    # solved numerically, and the equations stay Shulgin's: T*, E_j, Voronets' terms
     from nonideal.gallery.knife_chain import build
 
     model = build(8)
-    assert derive(model, "maggi").auxiliaries  # the explicit dependent block would blow up
-    with pytest.raises(FormNotApplicable, match="closed form within the size budget.*--form maggi or --form appell"):
-        derive(model, "shulgin")
-    assert not derive(build(4), "shulgin").auxiliaries
+    eom = derive(model, "shulgin")
+    assert eom.auxiliaries and len(eom.unknowns) == 2
+    symbols = {str(s) for s in eom.auxiliaries[0].symbols}
+    assert "A[theta2,x]" in symbols and "dA[theta2,x]/dtheta1" in symbols
+    assert any("auxiliary symbols" in n for n in eom.notes)
+    assert any(n.startswith("Voronets' terms kept") for n in eom.notes)
+    report = compare_forms(model, forms=["shulgin"], count=10)
+    assert report.states == 10 and report.worst() < 1e-10, report
+
+
+@pytest.mark.parametrize("build", [sleigh, painleve, rotating_line])
+def test_auxiliary_coefficients_give_the_explicit_equations(build, monkeypatch):
+    # the same derivation with A_aj, A_a0 and their derivatives as symbols (solved from the
+    # constraints) gives the same A, c, Q_f at generic points, and the same Voronets terms
+    from nonideal.dynamics import dynamics_of
+    from nonideal.formalisms import shulgin
+    from nonideal.formalisms.base import _evaluate
+
+    model = build()
+    explicit = derive(model, "shulgin")
+    monkeypatch.setattr(shulgin, "EXPLICIT_FACTOR", 0)
+    monkeypatch.setattr(shulgin, "EXPLICIT_FLOOR", 0)
+    implicit = derive(model, "shulgin")
+    assert not explicit.auxiliaries and implicit.auxiliaries
+    assert implicit.unknowns == explicit.unknowns
+    assert [n for n in implicit.notes if "Voronets" in n] == [n for n in explicit.notes if "Voronets" in n]
+    dyn = dynamics_of(model)
+    rng = random.Random(3)
+    points = [[rng.uniform(-1.2, 1.2) for _ in range(3 * dyn.n + 1)] for _ in range(5)]
+    for X, Y in [(explicit.A_, implicit.A_), (explicit.c_, implicit.c_), (explicit.Qf_, implicit.Qf_),
+                 (explicit.r_, implicit.r_)]:
+        a = _evaluate(dyn, list(X), points)
+        b = _evaluate(dyn, list(Y), points, implicit.auxiliaries)
+        for u, v in zip(a, b):
+            assert np.max(np.abs(u - v)) <= 1e-10 * max(1.0, np.max(np.abs(u)))
+
+
+def test_without_eliminated_velocities_the_velocity_terms_are_the_kernels():
+    # T* = T, E_j = d/dx_j: (1.64) is Lagrange's equations of T; the kernel's h is their
+    # velocity term d/dt dT/dx_j' - dT/dx_j (without accelerations), built from the bodies
+    from nonideal.gallery.nlink_pendulum import build
+
+    model = build(4)
+    eom, ref = derive(model, "shulgin"), derive(model, "lagrange1")
+    assert eom.notes[0].startswith("no ideal constraint to eliminate")
+    assert eom.A_ == ref.A_ and eom.c_ == ref.c_ and eom.Qf_ == ref.Qf_
 
 
 def test_printing():

@@ -25,12 +25,13 @@ from dataclasses import dataclass
 
 import numpy as np
 import symengine as se
+from scipy.linalg.lapack import zgesv as _zgesv
 
 from ..dynamics import ConstraintRow, Dynamics, count_ops
 from ..eom import Auxiliary, EquationsOfMotion
 from ..errors import FormNotApplicable, SingularSystem, did_you_mean
 
-__all__ = ["Formalism", "Reduction", "reduce_velocities", "split_rows", "numeric_instances", "vanishing"]
+__all__ = ["Formalism", "Reduction", "partition", "reduce_velocities", "split_rows", "numeric_instances", "vanishing"]
 
 
 class Formalism:
@@ -55,35 +56,69 @@ def split_rows(rows: list[ConstraintRow]) -> tuple[list[ConstraintRow], list[Con
 # ----------------------------------------------------------------------------- numerics helpers
 
 
+def _random_point(rng: random.Random, count: int) -> list[float]:
+    return [rng.uniform(0.2, 1.1) * rng.choice((-1, 1)) for _ in range(count)]
+
+
+def _evaluate(dyn: Dynamics, exprs: list, points: list[list[float]],
+              auxiliaries: tuple[Auxiliary, ...] = ()) -> list[np.ndarray]:
+    """Complex values of *exprs* at *points* (values of ``q, q', q'', t``; the parameters'
+    values are appended), through one compiled function (no per-entry substitution).
+
+    Auxiliary symbols take the values that solve their linear systems at each point.
+    """
+    syms = dyn.q + dyn.qd + dyn.qdd + [dyn.t]
+    pvals = list(dyn.model.parameter_values.values())
+    aux_syms = [s for aux in auxiliaries for s in aux.symbols]
+    fn = se.Lambdify(syms + dyn.params + aux_syms, [se.sympify(e) for e in exprs], real=False, cse=False)
+    systems = []
+    for aux in auxiliaries:
+        # only the nonzero entries are compiled (block systems are mostly zeros)
+        entries = [(i, e) for i, e in enumerate(list(aux.K) + list(aux.Y)) if e != 0]
+        fk = se.Lambdify(syms + dyn.params, [e for _, e in entries], real=False, cse=False)
+        systems.append((fk, [i for i, _ in entries], aux.K.shape, aux.Y.shape))
+    out = []
+    for point in points:
+        base = np.array(list(point) + pvals, dtype=complex)
+        values = [base]
+        for fk, where, kshape, yshape in systems:
+            ky = np.zeros(kshape[0] * kshape[1] + yshape[0] * yshape[1], dtype=complex)
+            ky[where] = np.asarray(fk(base), dtype=complex).ravel()
+            K, Y = ky[:kshape[0] * kshape[1]].reshape(kshape), ky[kshape[0] * kshape[1]:].reshape(yshape)
+            X, info = _zgesv(K, Y)[2:]
+            values.append(X.ravel() if info == 0 else np.full(Y.size, np.nan, dtype=complex))
+        out.append(np.asarray(fn(np.concatenate(values)), dtype=complex).ravel())
+    return out
+
+
 def numeric_instances(dyn: Dynamics, exprs: list, count: int = 2, seed: int = 7,
                       with_initial: bool = False) -> list[np.ndarray]:
-    """Evaluate expressions at *count* generic points (random q, q', t; parameter values).
+    """Evaluate expressions at *count* generic points (random q, q', q'', t; parameter values).
 
     With ``with_initial`` the first point takes the coordinates of the model's initial state
     when they are all given (so that choices made from these values suit the simulation).
+    Complex values give their real part, non-finite ones NaN.
     """
     rng = random.Random(seed)
-    syms = dyn.q + dyn.qd + dyn.qdd + [dyn.t]
-    pvals = dict(zip(dyn.params, dyn.model.parameter_values.values()))
-    init = {}
+    n = dyn.n
+    init = None
     if with_initial:
         values = dyn.model.numeric_initial()
         if all(c in values for c in dyn.model.coordinates):
-            init = {s: values[c] for s, c in zip(dyn.q, dyn.model.coordinates)}
-            init[dyn.t] = dyn.model.t0
-    out = []
+            init = [values[c] for c in dyn.model.coordinates]
+    points = []
     for k in range(count + (1 if init else 0)):
-        subs = {s: rng.uniform(0.2, 1.1) * rng.choice((-1, 1)) for s in syms}
+        point = _random_point(rng, 3 * n + 1)
         if k == 0 and init:
-            subs.update(init)
-        subs.update(pvals)
-        vals = []
-        for e in exprs:
-            try:
-                vals.append(complex(se.sympify(e).xreplace(subs).n()).real)
-            except (RuntimeError, TypeError, ValueError):
-                vals.append(np.nan)
-        out.append(np.array(vals, dtype=float))
+            point[:n] = init
+            point[3 * n] = dyn.model.t0
+        points.append(point)
+    out = []
+    with np.errstate(all="ignore"):
+        for vals in _evaluate(dyn, exprs, points):
+            real = vals.real.copy()
+            real[~np.isfinite(vals)] = np.nan
+            out.append(real)
     return out
 
 
@@ -221,9 +256,29 @@ def _symbolic_solve(K: list[list], Y: list[list], budget: int):
     return X
 
 
+def partition(dyn: Dynamics, rows: list[ConstraintRow],
+              independent: tuple[str, ...] | None) -> tuple[list[int], list[int]]:
+    """Dependent and independent coordinate indices for the velocity-level rows ``G`` of *rows*.
+
+    *independent* (coordinate names) is checked; without it a sparse, well-conditioned choice
+    is made (:func:`_choose_dependent`).
+    """
+    coords = list(dyn.model.coordinates)
+    if not rows:
+        return [], list(range(dyn.n))
+    if independent is not None:
+        bad = [c for c in independent if c not in coords]
+        if bad:
+            raise FormNotApplicable(
+                f"[forms] independent: '{bad[0]}' is not a coordinate{did_you_mean(bad[0], coords)}"
+            )
+    dep = _choose_dependent(dyn, [list(r.G) for r in rows], coords, independent, [r.name for r in rows])
+    return dep, [j for j in range(dyn.n) if j not in dep]
+
+
 def reduce_velocities(dyn: Dynamics, rows: list[ConstraintRow],
-                      independent: tuple[str, ...] | None, explicit_budget: int | None = None,
-                      factor: int = 2, floor: int = 2000) -> Reduction:
+                      independent: tuple[str, ...] | None, factor: int = 2,
+                      floor: int = 2000) -> Reduction:
     """Eliminate the dependent velocities of *rows*: ``q'' = V p' + w``.
 
     The dependent block ``G_D`` is solved symbolically when that stays small (a budget of
@@ -233,25 +288,16 @@ def reduce_velocities(dyn: Dynamics, rows: list[ConstraintRow],
     n = dyn.n
     coords = list(dyn.model.coordinates)
     m = len(rows)
+    dep, ind = partition(dyn, rows, independent)
     if m == 0:
-        ind = list(range(n))
         return Reduction([], ind, se.eye(n), se.zeros(n, 1), ())
     G = [list(r.G) for r in rows]
     gamma = [r.gamma for r in rows]
-    if independent is not None:
-        bad = [c for c in independent if c not in coords]
-        if bad:
-            raise FormNotApplicable(
-                f"[forms] independent: '{bad[0]}' is not a coordinate{did_you_mean(bad[0], coords)}"
-            )
-    dep = _choose_dependent(dyn, G, coords, independent, [r.name for r in rows])
-    ind = [j for j in range(n) if j not in dep]
     k = len(ind)
     K = [[G[i][j] for j in dep] for i in range(m)]
     Y = [[-G[i][j] for j in ind] + [-gamma[i]] for i in range(m)]
     size_in = count_ops([x for row in K for x in row] + [x for row in Y for x in row])
-    budget = explicit_budget if explicit_budget is not None else max(floor, factor * size_in)
-    X = _symbolic_solve(K, Y, budget)
+    X = _symbolic_solve(K, Y, max(floor, factor * size_in))
     aux: tuple[Auxiliary, ...] = ()
     if X is None:
         syms = [[se.Symbol(f"V[{coords[dep[i]]},{coords[ind[c]]}]") for c in range(k)]
@@ -312,15 +358,16 @@ def transpose_times(V, x, n: int, k: int):
 
 
 def vanishing(dyn: Dynamics, groups: list[list], count: int = 4, seed: int = 11,
-              rtol: float = 1e-9) -> list[bool]:
+              rtol: float = 1e-9, auxiliaries: tuple[Auxiliary, ...] = ()) -> list[bool]:
     """Which sums vanish identically, judged at *count* generic points.
 
     Each group lists the terms of one sum.  A sum is taken as zero when, at every generic
-    point (random ``q, q', q'', t``; the parameter values) where its terms are finite,
-    ``|sum| <= rtol * sum |term|`` -- complex values included (a square root of a negative
-    number at a random point is no reason to keep a term) -- and at least two points were
-    informative.  A group of symbolically zero terms is zero.  Cheap: one compiled complex
-    evaluation of all terms, no simplification.
+    point (random ``q, q', q'', t``; the parameter values; *auxiliaries* solved there) where
+    its terms are finite, ``|sum| <= rtol * sum |term|`` -- complex values included (a square
+    root of a negative number at a random point is no reason to keep a term; terms that are
+    all exactly zero there, e.g. auxiliary symbols whose values vanish, count as zero) -- and
+    at least two points gave finite terms.  A group of symbolically zero terms is zero.  Cheap: one
+    compiled complex evaluation of all terms, no simplification.
     """
     exprs = [[se.sympify(e) for e in g] for g in groups]
     zero = [all(e == 0 for e in g) for g in exprs]
@@ -328,13 +375,15 @@ def vanishing(dyn: Dynamics, groups: list[list], count: int = 4, seed: int = 11,
     if not flat:
         return zero
     rng = random.Random(seed)
-    syms = dyn.q + dyn.qd + dyn.qdd + [dyn.t]
-    fn = se.Lambdify(syms + dyn.params, flat, real=False, cse=False)
-    pvals = list(dyn.model.parameter_values.values())
-    values = []
-    for _ in range(count):
-        point = [rng.uniform(0.2, 1.1) * rng.choice((-1, 1)) for _ in syms] + pvals
-        values.append(np.asarray(fn(np.array(point, dtype=complex)), dtype=complex).ravel())
+    points = [_random_point(rng, 3 * dyn.n + 1) for _ in range(count)]
+    with np.errstate(all="ignore"):
+        values = _evaluate(dyn, flat, points, auxiliaries)
+    # rounding noise of auxiliary values (1e-16 where a coefficient is exactly constant) is
+    # judged against the largest sum of the point, not against its own vanishing terms
+    scales = []
+    for vals in values:
+        finite = np.abs(vals[np.isfinite(vals)])
+        scales.append(float(finite.max()) if finite.size else 0.0)
     out = []
     pos = 0
     for g, z in zip(exprs, zero):
@@ -344,13 +393,11 @@ def vanishing(dyn: Dynamics, groups: list[list], count: int = 4, seed: int = 11,
         sl = slice(pos, pos + len(g))
         pos += len(g)
         ok, informative = True, 0
-        for vals in values:
+        for vals, scale in zip(values, scales):
             v = vals[sl]
             if not np.all(np.isfinite(v)):
                 continue
-            mag = float(np.sum(np.abs(v)))
-            if mag == 0.0:
-                continue
+            mag = max(float(np.sum(np.abs(v))), 1e-6 * scale if auxiliaries else 0.0)
             informative += 1
             if abs(np.sum(v)) > rtol * mag:
                 ok = False
