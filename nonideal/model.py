@@ -45,7 +45,8 @@ from .errors import ExpressionError, ModelError, did_you_mean
 from .expressions import CONSTANTS, FUNCTIONS, parse_expression
 from .symbols import coordinate_symbols, is_identifier, t
 
-__all__ = ["Parameter", "Constraint", "SimulationSettings", "Model", "RESERVED_NAMES"]
+__all__ = ["Parameter", "Constraint", "SimulationSettings", "Model", "RESERVED_NAMES",
+           "resolve_parameters"]
 
 RESERVED_NAMES = frozenset({"t"} | set(FUNCTIONS) | set(CONSTANTS))
 
@@ -332,6 +333,60 @@ def _derivative_order(expr: sp.Expr, coordinates: Iterable[str]) -> int:
     return order
 
 
+def resolve_parameters(raw: Mapping[str, Any]) -> tuple[dict[str, float], list[str]]:
+    """Numeric values of parameters given as numbers or as expressions (strings) in the other
+    parameters -- derived parameters such as ``theta_eq = "acos(g/(w^2*R))"`` -- evaluated in
+    dependency order with the safe parser.
+
+    Returns
+    -------
+    values : dict name -> float
+        The parameters that could be evaluated.
+    problems : list of str
+        One message per parameter that could not (not a number, unknown names, a cycle).
+    """
+    values: dict[str, float] = {}
+    problems: list[str] = []
+    pending: dict[str, sp.Expr] = {}
+    symbols = {n: sp.Symbol(n) for n in raw}
+    for name, value in raw.items():
+        where = f"[parameters] {name}"
+        if isinstance(value, str):
+            try:
+                pending[name] = parse_expression(value, symbols, where)
+            except ExpressionError as exc:
+                problems += [p.replace("unknown symbol", "unknown parameter", 1) for p in exc.problems]
+        elif isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+            problems.append(f"{where}: value must be a finite number or an expression in the other "
+                            f"parameters, in quotes (got {value!r})")
+        else:
+            values[name] = float(value)
+    while pending:
+        ready = {n: e for n, e in pending.items() if all(s.name in values for s in e.free_symbols)}
+        if not ready:
+            for name in sorted(pending):
+                needs = sorted(s.name for s in pending[name].free_symbols if s.name not in values)
+                broken = [n for n in needs if n not in pending]
+                if broken:
+                    why = f"it depends on {', '.join(broken)}, which has no value"
+                elif needs == [name]:
+                    why = "it is defined in terms of itself; give it a number"
+                else:
+                    why = (f"it depends on {', '.join(needs)}: the definitions form a cycle; give "
+                           "one of them a number")
+                problems.append(f"[parameters] {name}: cannot be evaluated -- {why}")
+            break
+        for name, expr in ready.items():
+            del pending[name]
+            v = complex(expr.xreplace({sp.Symbol(k): sp.Float(x) for k, x in values.items()}).evalf())
+            if abs(v.imag) > 1e-12 * max(1.0, abs(v.real)) or not math.isfinite(v.real):
+                problems.append(f"[parameters] {name}: the expression {expr} has no finite real "
+                                f"value ({v}); check its domain (sqrt, log, acos ...)")
+                continue
+            values[name] = float(v.real)
+    return values, problems
+
+
 def _parameter_values(parameters: Mapping[str, Parameter]) -> dict[sp.Symbol, sp.Expr]:
     """``{symbol: value}`` of the parameters, for ``xreplace`` (a plain substitution of
     symbols by numbers: ``subs`` would search for subexpressions, 10-100x slower)."""
@@ -470,11 +525,11 @@ class _Normalizer:
                               str(value.get("description", "")))
             else:
                 p = Parameter(name, value)
-            if isinstance(p.value, bool) or not isinstance(p.value, numbers.Real) or not math.isfinite(p.value):
-                self.problems.append(f"{where}: value must be a finite number (got {p.value!r})")
-                continue
-            params[name] = Parameter(name, float(p.value), p.unit, p.description)
-        self.set("parameters", params)
+            params[name] = p
+        values, problems = resolve_parameters({n: p.value for n, p in params.items()})
+        self.problems += problems
+        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description)
+                                for n, p in params.items() if n in values})
 
     # -- energy
     def energy_and_forces(self) -> None:
@@ -570,16 +625,26 @@ class _Normalizer:
                     else:
                         loads.append(Force(ld.name, pt, fv))
             elif isinstance(ld, Torque):
-                if ld.body is not None:
-                    if ld.body not in body_names or not isinstance(body_names[ld.body], RigidBody):
-                        self.problems.append(
-                            f"{where}: body '{ld.body}' is not a RigidBody of this model"
-                            + did_you_mean(ld.body, body_names)
-                        )
+                body = body_names.get(ld.body) if ld.body is not None else None
+                if ld.body is not None and body is None:
+                    self.problems.append(f"{where}: body '{ld.body}' is not a body of this model"
+                                         + did_you_mean(ld.body, body_names))
+                    continue
+                if isinstance(body, PlanarBody):   # Q_j = torque * d(angle)/dq_j
+                    if isinstance(ld.torque, (tuple, list)):
+                        self.problems.append(f"{where}: body '{ld.body}' is planar: its torque is "
+                                             "one expression (about the normal to the plane)")
                         continue
+                    tq = self.expr(ld.torque, f"{where}: torque", 1)
+                    if tq is not None:
+                        loads.append(Torque(ld.name, tq, body.angle, None))
+                elif isinstance(body, RigidBody):
                     tq = self.vector(ld.torque, f"{where}: torque", (3,), order=1)
                     if tq is not None:
                         loads.append(Torque(ld.name, tq, None, ld.body))
+                elif body is not None:
+                    self.problems.append(f"{where}: body '{ld.body}' is a particle: a torque acts on "
+                                         "a planar or rigid body")
                 else:
                     tq = self.expr(ld.torque, f"{where}: torque", 1)
                     ang = self.expr(ld.angle, f"{where}: angle", 0) if ld.angle is not None else None

@@ -9,7 +9,11 @@ The format is the one of the SPEC (``format = 1``), extended -- never broken -- 
 * contacts: ``friction = "coulomb" | "regularized" | "linearized"``, ``eps``,
   ``restitution``, ``bilateral``;
 * ``[forms] independent`` -- independent coordinates for the reduced forms;
-* ``[parameters]`` values may be tables ``{value, unit, description}``.
+* ``[parameters]`` values may be tables ``{value, unit, description}``, and expressions in the
+  other parameters (derived parameters, e.g. ``w = "sqrt(g/l)"``), evaluated in dependency
+  order when the file is read;
+* numeric settings (``restitution``, ``eps``, ``[simulation]`` times and tolerances) may be
+  expressions in the parameters too (e.g. ``t_end = "4*pi/w"``).
 
 Every key is checked; unknown keys are rejected with a suggestion, and every problem in the
 file is reported at once with the file name.  Expressions go through the safe parser only.
@@ -23,10 +27,13 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+import sympy as sp
+
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
 from .errors import ModelError, did_you_mean
-from .model import Constraint, Model
+from .expressions import parse_expression
+from .model import Constraint, Model, resolve_parameters
 
 __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
 
@@ -124,6 +131,8 @@ class _Checker:
 
     def __init__(self, problems: list[str]):
         self.problems = problems
+        self.parameters: dict[str, float] = {}   # numeric values, for numbers given as expressions
+        self.parameter_names: set[str] = set()
 
     def boolean(self, table: dict, key: str, where: str, default: bool = False) -> bool:
         value = table.get(key, default)
@@ -137,6 +146,18 @@ class _Checker:
         if key not in table:
             return default
         value = table[key]
+        if isinstance(value, str):   # an expression in the parameters, evaluated now
+            try:
+                expr = parse_expression(value, {n: sp.Symbol(n) for n in self.parameter_names},
+                                        f"{where}: {key}")
+                if any(s.name not in self.parameters for s in expr.free_symbols):
+                    return default   # a parameter without a value: reported with the parameters
+                value = float(expr.xreplace({sp.Symbol(n): sp.Float(v) for n, v in self.parameters.items()}))
+            except ModelError as exc:
+                self.problems += exc.problems
+                return default
+            except TypeError:   # not a real number
+                value = math.nan
         ok = _is_number(value) and math.isfinite(value)
         if ok and positive and not value > 0:
             ok = False
@@ -145,7 +166,8 @@ class _Checker:
         if not ok:
             rng = (f" in [{low}, {high}]" if low is not None and high is not None
                    else " > 0" if positive else "")
-            self.problems.append(f"{where}: {key} must be a number{rng} (got {value!r})")
+            self.problems.append(f"{where}: {key} must be a number{rng}, or an expression in the "
+                                 f"parameters (got {table[key]!r})")
             return default
         return value
 
@@ -272,6 +294,9 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 problems.append(f"[parameters] {pname}: missing 'value', e.g. "
                                 f"{pname} = {{value = 1.0, unit = \"kg\"}}")
                 params[pname] = 0.0   # placeholder: the error above is raised in any case
+    check.parameter_names = set(params)
+    check.parameters = resolve_parameters(
+        {n: (v.get("value") if isinstance(v, dict) else v) for n, v in params.items()})[0]
     energy = table("energy")
     for key in ("kinetic", "potential"):
         if key in energy:
@@ -409,13 +434,13 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 problems.append(f"{where}: missing {', '.join(missing)}")
                 continue
             ok = check.name(ld, where)
-            if "body" in ld:
+            if "body" in ld and isinstance(ld["torque"], list):   # on a rigid body in space
                 ok &= check.expr_list(ld, "torque", where, (3,))
-                if not isinstance(ld["body"], str):
-                    problems.append(f"{where}: body must be the name of a rigid body")
-                    ok = False
-            else:
+            else:                                                  # planar: a scalar torque
                 ok &= check.expr(ld, "torque", where)
+            if "body" in ld and not isinstance(ld["body"], str):
+                problems.append(f"{where}: body must be the name of a body")
+                ok = False
             if "angle" in ld:
                 ok &= check.expr(ld, "angle", where)
             if ok:

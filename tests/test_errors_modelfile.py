@@ -204,12 +204,13 @@ def test_format_version_mismatch(capsys):
      "[[constraints]] #1 'rod': expr must be an expression in quotes or a number (got a boolean True)"),
     (('q = ["x", "y"]', 'q = "x"'),
      "[coordinates] q: must be a list of names in quotes, e.g. q = [\"x\", \"theta\"] (got a string 'x')"),
-    (("t_end = 1.0", 't_end = "1"'),
-     "[simulation]: t_end must be a number (got '1')"),
+    (("t_end = 1.0", "t_end = true"),
+     "[simulation]: t_end must be a number, or an expression in the parameters (got True)"),
     (("t_end = 1.0", "t_end = 1.0\nt0 = \"zero\""),
-     "[simulation]: t0 must be a number (got 'zero')"),
-    (("m = 1.0", 'm = "1.0"'),
-     "[parameters] m: value must be a finite number (got '1.0')"),
+     "[simulation]: t0: unknown symbol 'zero'"),
+    (("m = 1.0", "m = true"),
+     "[parameters] m: value must be a finite number or an expression in the other parameters, "
+     "in quotes (got True)"),
     (("m = 1.0", 'm = {value = 1.0, units = "kg"}'),
      "[parameters] m: unknown key 'units' (did you mean 'unit'?)"),
     (("unilateral = false", 'reaction = "0"'),
@@ -217,7 +218,8 @@ def test_format_version_mismatch(capsys):
     (("unilateral = false", 'reaction = ["0", "1", "2"]'),
      "[[constraints]] #1 'rod': reaction must have 2 entries (got 3)"),
     (("unilateral = false", "restitution = 2"),
-     "[[constraints]] #1 'rod': restitution must be a number in [0.0, 1.0] (got 2)"),
+     "[[constraints]] #1 'rod': restitution must be a number in [0.0, 1.0], or an expression in "
+     "the parameters (got 2)"),
     (('type = "holonomic"', 'type = "holonomc"'),
      "constraint 'rod': type 'holonomc' unknown (did you mean 'holonomic'?); use holonomic, "
      "nonholonomic or servo"),
