@@ -69,7 +69,7 @@ _FORBIDDEN_OPS = {
     "|": "the operator '|'", "~": "the operator '~'", "<": "comparisons", ">": "comparisons",
     "=": "'=' (an expression is not an equation: write lhs - rhs)", "!": "'!'",
     ".": "attribute access ('.')", "[": "brackets ('[')", "]": "brackets (']')",
-    "{": "braces ('{')", "}": "braces ('}')", '"': "strings", "'": "a lone prime",
+    "{": "braces ('{')", "}": "braces ('}')", '"': "a double quote (strings)", "'": "a lone prime",
     ":": "':'", ";": "';'", "#": "comments ('#')", "\\": "backslashes", "$": "'$'",
     "?": "'?'", "`": "'`'",
 }

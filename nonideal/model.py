@@ -476,7 +476,16 @@ class _Normalizer:
                 uses.setdefault(name, [])
                 if where not in uses[name]:
                     uses[name].append(where)
-        if len(self.unknown) < 2 or not uses:
+        if not uses:
+            return
+        if len(self.unknown) == 1:
+            name = next(iter(uses))
+            known = [*self.m.parameters, *self.m.coordinates, *RESERVED_NAMES]
+            if did_you_mean(name, known):
+                return   # a typo: the message already suggests the name
+            self.problems.append(f"'{name}' is not a parameter, coordinate or known function: define "
+                                 f"it in [parameters] as {name} = value (SI units), or correct the "
+                                 "spelling; there are no default values")
             return
         listing = "; ".join(f"{name} (in {', '.join(w)})" for name, w in sorted(uses.items()))
         self.problems.append(

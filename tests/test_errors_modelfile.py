@@ -320,3 +320,15 @@ def test_kinetic_energy_must_be_smooth_in_the_velocities(tmp_path):
                        "velocities; the kinetic energy must be smooth in the velocities (the "
                        "equations of motion use its second derivatives), e.g. m/2*x'^2 instead "
                        "of m/2*abs(x')^2")
+
+
+def test_one_unknown_name_without_a_near_match_says_how_to_declare_it():
+    from nonideal import Model
+
+    with pytest.raises(ModelError) as info:
+        Model(name="x", coordinates=["x"], parameters={"k": 1.0}, kinetic="x'^2/2",
+              potential="k*x^2/2 + c*x", initial={"x": 0, "x'": 0})
+    assert info.value.problems == [
+        "[energy] potential: unknown symbol 'c'",
+        "'c' is not a parameter, coordinate or known function: define it in [parameters] as "
+        "c = value (SI units), or correct the spelling; there are no default values"]
