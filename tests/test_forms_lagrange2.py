@@ -273,3 +273,18 @@ def test_quasi_ideal_holonomic_constraint_is_kept():
     mine = ModeSolver(kernel, params, "lagrange2").solve(0.0, q, qd, Mode())
     lam = ref.multiplier(kernel.row_index["curve"])
     assert abs(lam) > 1.0 and mine.direct["curve"] == pytest.approx(lam, rel=1e-12)
+
+
+def test_the_branch_of_the_chart_can_be_chosen_at_a_state():
+    # a pendulum in (x, y): x eliminated; the root follows the branch point's sign of x
+    from nonideal.symbols import to_sp
+
+    m = Model(name="pendulum", coordinates=["x", "y"], parameters={"l": 1.0, "g": 9.81},
+              kinetic="(x'^2 + y'^2)/2", potential="g*y",
+              constraints=[Constraint.holonomic("rod", "x^2 + y^2 - l^2")],
+              initial={"x": 0.6, "y": -0.8, "x'": 0.0})
+    x, y, l = sp.symbols("x y l")
+    at_start = derive(m, "lagrange2", independent=("y",))
+    there = derive(m, "lagrange2", independent=("y",), branch={"x": -0.6, "y": -0.8})
+    assert sp.simplify(to_sp(at_start.extras_["chart"][0]) - (x - sp.sqrt(l**2 - y**2))) == 0
+    assert sp.simplify(to_sp(there.extras_["chart"][0]) - (x + sp.sqrt(l**2 - y**2))) == 0

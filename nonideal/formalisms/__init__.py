@@ -42,7 +42,8 @@ FORMS: dict[str, type[Formalism]] = {
 
 
 def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | None = None,
-           independent: tuple[str, ...] | None = None) -> EquationsOfMotion:
+           independent: tuple[str, ...] | None = None,
+           branch: dict[str, float] | None = None) -> EquationsOfMotion:
     """Equations of motion of *model* in *form*.
 
     Parameters
@@ -56,6 +57,10 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
     independent : tuple of str, optional
         Independent coordinates for the reduced forms (default: the model's ``independent``,
         else a sparse, well-conditioned choice).
+    branch : dict name -> float, optional
+        Lagrange II only: the coordinates through which the roots of the holonomic
+        constraints are chosen (default: the model's initial state).  The hybrid simulation
+        passes the current state when it changes charts.
 
     Returns
     -------
@@ -78,4 +83,7 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
         rows = dyn.rows()
     if independent is None:
         independent = model.independent
-    return FORMS[form]().derive(dyn, list(rows), independent)
+    formalism = FORMS[form]()
+    if branch is not None:
+        formalism.branch = dict(branch)
+    return formalism.derive(dyn, list(rows), independent)

@@ -40,6 +40,7 @@ class Formalism:
     name: str = ""
     title: str = ""
     citation: str = ""
+    branch: dict[str, float] | None = None   # Lagrange II: where to pick the constraints' roots
 
     def derive(self, dyn: Dynamics, rows: list[ConstraintRow],
                independent: tuple[str, ...] | None) -> EquationsOfMotion:

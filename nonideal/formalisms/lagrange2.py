@@ -102,16 +102,17 @@ def _num(expr, point) -> complex | None:
     return v
 
 
-def _initial_point(model: Model):
-    """The model's initial coordinates (completed from the constraints when some are missing).
+def _initial_point(model: Model, branch: dict[str, float] | None = None):
+    """The model's initial coordinates (completed from the constraints when some are missing),
+    or the coordinates *branch* when given.
 
     Returns ``(point, known)``: values for parameters, ``t`` and every coordinate (0.1 where
     nothing is known), and the set of coordinate indices whose value comes from the model.
     """
     coords = list(model.coordinates)
-    given = model.numeric_initial()
+    given = dict(branch) if branch is not None else model.numeric_initial()
     values = {c: given[c] for c in coords if c in given}
-    if len(values) < len(coords):
+    if len(values) < len(coords) and branch is None:
         try:  # the completion the simulation uses (lazy import: numerics are not needed otherwise)
             from ..consistency import complete_state
             from ..numeric import kernel_of, parameter_vector
@@ -267,7 +268,7 @@ def _not_applicable(name: str, expr, cands: list[str], why: str) -> FormNotAppli
 
 
 def holonomic_chart(dyn: Dynamics, rows: list[ConstraintRow],
-                    keep: tuple[str, ...] | None) -> Chart:
+                    keep: tuple[str, ...] | None, branch: dict[str, float] | None = None) -> Chart:
     """Solve the ideal holonomic *rows* for one dependent coordinate each (module docstring).
 
     Parameters
@@ -277,6 +278,8 @@ def holonomic_chart(dyn: Dynamics, rows: list[ConstraintRow],
         Position-level rows to eliminate.
     keep : tuple of str or None
         Coordinates that must be kept (all the kept ones, or a part of them).
+    branch : dict name -> float, optional
+        Coordinates through which the roots are chosen (default: the initial state).
 
     Raises
     ------
@@ -306,7 +309,7 @@ def holonomic_chart(dyn: Dynamics, rows: list[ConstraintRow],
                 f"keeps {n - m} coordinates"
             )
         allowed = [j for j in range(n) if coords[j] not in keep]
-    point, known = _initial_point(model)
+    point, known = _initial_point(model, branch)
     q_se = [to_se(s) for s in q]
     exprs_se = [to_se(e) for e in exprs]
     point_se = {to_se(k): float(v) for k, v in point.items()}
@@ -510,7 +513,7 @@ class Lagrange2(Formalism):
                 independent=tuple(coords), A_=A, c_=c, Qf_=Q, B_=B, G_=G, gamma_=gamma,
                 R_=se.eye(n), r_=se.zeros(n, 1), notes=tuple(notes),
             )
-        chart = holonomic_chart(dyn, elim, independent)
+        chart = holonomic_chart(dyn, elim, independent, self.branch)
         kept, dep = chart.kept, chart.dependent
         k = len(kept)
         if k:
