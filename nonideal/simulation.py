@@ -28,11 +28,11 @@ from scipy.optimize import brentq
 
 from .consistency import complete_state, project_state
 from .errors import IntegrationFailed, ModelError, PainleveParadox
-from .events import (ContactTouch, Event, EventContext, Jam, Lift, Release, SlipStart, SlipStop,
-                     Touch)
+from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch
 from .model import Model
+from .mode_system import Motion
 from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, ModeSolver
-from .numeric import kernel_of, parameter_vector
+from .numeric import SingularMatrix, kernel_of, parameter_vector
 from .switching import effective_compliance, impact, select_mode, validate_contacts
 from .trajectory import Sample, Trajectory
 
@@ -86,6 +86,51 @@ class Simulation:
 
     # ------------------------------------------------------------------ right-hand side
     def rhs(self, mode: Mode):
+        """The right-hand side ``f(t, y)`` of a phase in *mode*, ``y = [q, q', W]``.
+
+        Lagrange I evaluates the mode's :class:`~nonideal.mode_system.ModeSystem` (assembled
+        by index; the powers of the reactions from the same solve); the other forms, and a
+        singular system, take the general path of :meth:`ModeSolver.accelerations`.
+        """
+        if self.solver.form == "lagrange1":
+            return self._lagrange1_rhs(mode)
+        return self._general_rhs(mode)
+
+    def _lagrange1_rhs(self, mode: Mode):
+        n, solver = self.n, self.solver
+        system = solver.system(mode)
+        general = self._general_rhs(mode)  # singular: minimum-norm contact forces or a named error
+
+        if not self.track:
+            def fun(t, y):
+                try:
+                    sol = system.solve(solver, t, y, mode)
+                except SingularMatrix:
+                    return general(t, y)
+                return np.concatenate((y[n:2 * n], sol[:n]))
+            return fun
+
+        powers = system.power is not None
+
+        def fun(t, y):
+            try:
+                sol, P_R, P_f = system.solve_with_powers(solver, t, y, mode)
+            except SingularMatrix:
+                return general(t, y)
+            dy = np.empty_like(y)
+            dy[:n] = y[n:2 * n]
+            dy[n:2 * n] = sol[:n]
+            dy[2 * n + 1] = P_R
+            dy[2 * n + 3] = P_f
+            dy[2 * n + 4] = 0.0  # impacts change it only at switches
+            if powers:
+                dy[2 * n], dy[2 * n + 2] = system.powers(solver)
+            else:
+                dy[2 * n] = dy[2 * n + 2] = 0.0
+            return dy
+        return fun
+
+    def _general_rhs(self, mode: Mode):
         n, solver, track = self.n, self.solver, self.track
         kernel = self.kernel
 
@@ -156,22 +201,14 @@ class Simulation:
                     out.append(Jam("jam", name, c))
         return out
 
-    def context(self, t: float, y: np.ndarray, mode: Mode) -> EventContext:
-        n = self.n
-        q, qd = y[:n], y[n:2 * n]
-        sol = self.solver.solve(t, q, qd, mode)
-        obs = self.kernel.observables(self.solver.input(t, q, qd)) if self.kernel.rows else {}
-        return EventContext(t, q, qd, sol, obs, self.solver, mode)
-
-    def _tolerance(self, ev: Event, ctx: EventContext) -> float:
-        force = 1.0 + float(np.max(np.abs(ctx.solution.F)))
+    def _tolerance(self, ev: Event, motion: Motion) -> float:
         if isinstance(ev, (Release, Lift, SlipStart)):
-            return 1e-9 * force
+            return 1e-9 * motion.force_scale()
         if isinstance(ev, Jam):
             return 1e-12
         if isinstance(ev, SlipStop):
-            return 1e-10 * (1.0 + float(np.max(np.abs(ctx.qd))))
-        return 1e-10 * (1.0 + float(np.max(np.abs(ctx.q))))
+            return 1e-10 * (1.0 + float(np.max(np.abs(motion.qd))))
+        return 1e-10 * (1.0 + float(np.max(np.abs(motion.q))))
 
     # ------------------------------------------------------------------ switching
     def _switch(self, t: float, y: np.ndarray, mode: Mode, ev: Event):
@@ -221,31 +258,30 @@ class Simulation:
         q, qd = project_state(self.kernel, rows, t, q, qd, self.params)
         if not self.contacts:
             return q, qd
+        ck = self.solver.ck
         for _ in range(4):
-            sol = self.solver.solve(t, q, qd, mode)
+            cout = ck(self.solver.input(t, q, qd))
             Gp, rp, Gv, rv = [], [], [], []
             for c, (name, cs) in enumerate(mode.contacts):
                 if cs.state == SEPARATED:
                     continue
-                cf = sol.contacts[name]
-                o = self.solver.ck.offsets[c]
-                cout = self.solver.ck(self.solver.input(t, q, qd))
+                o = ck.offsets[c]
                 Gp.append(cout["Gn"][c].copy())
-                rp.append(cf.gap)
+                rp.append(float(cout["gap"][c]))
                 Gv.append(cout["Gn"][c].copy())
-                rv.append(cf.gap_rate)
+                rv.append(float(cout["gap_rate"][c]))
                 if cs.state == STICK:
-                    for k in range(self.solver.ck.dims[c]):
+                    for k in range(ck.dims[c]):
                         Gv.append(cout["W"][o + k].copy())
-                        rv.append(cf.U[k])
+                        rv.append(float(cout["U"][o + k]))
             if not Gp:
                 break
             scale = 1 + np.max(np.abs(q))
             if max(np.max(np.abs(rp)), np.max(np.abs(rv), initial=0.0)) < 1e-14 * scale:
                 break
+            out = self.kernel.dynamics(self.solver.input(t, q, qd)) if rows else None
             for i in rows:  # keep the constraints while correcting the contacts
                 r = self.kernel.rows[i]
-                out = self.kernel.dynamics(self.solver.input(t, q, qd))
                 if r.position is not None:
                     Gp.append(out["G"][i].copy())
                     rp.append(0.0)
@@ -331,12 +367,13 @@ class Simulation:
         events_log: list[dict] = []
         next_time = 0
 
-        def emit(t, yy, md, solution=None):
-            samples.append(Sample(float(t), np.array(yy, dtype=float), md, solution))
+        def emit(t, yy, md, motion=None):
+            samples.append(Sample(float(t), np.array(yy, dtype=float), md, motion))
 
-        if times is None or (times.size and abs(times[0] - t0) <= 1e-14 * max(1, abs(t0))):
-            emit(t0, y, mode)
-            next_time = 1 if times is not None else 0
+        # the state at the start of a phase is sampled at the top of the loop, with its motion
+        pending = times is None or bool(times.size and abs(times[0] - t0) <= 1e-14 * max(1, abs(t0)))
+        if pending and times is not None:
+            next_time = 1
         t = t0
         h = None
         tiny = 0
@@ -344,17 +381,22 @@ class Simulation:
         projections = 0
         residual_max = {"position": 0.0, "velocity": 0.0}
         Solver = SOLVERS[self.method]
+        solver = self.solver
         while t < t_end:
             fun = self.rhs(mode)
             events = self.events(mode, t, y)
+            drift = self.kernel.kinematic_level(solver.rows(mode))
             kwargs = dict(rtol=self.rtol, atol=atol, max_step=self.max_step)
             if h is not None and self.method not in ("LSODA",):
                 kwargs["first_step"] = min(h, t_end - t)
-            self.solver.set_references(mode, t, y[:n], y[n:2 * n])
+            motion = solver.motion(t, y, mode)
+            if pending:
+                emit(t, y, mode, motion)
+                pending = False
+            solver.set_references(mode, motion)
             ode = Solver(fun, t, y, t_end, **kwargs)
-            ctx = self.context(t, y, mode)
-            g_prev = [ev.value(ctx) for ev in events]
-            tols = [self._tolerance(ev, ctx) for ev in events]
+            g_prev = [ev.value(motion) for ev in events]
+            tols = [self._tolerance(ev, motion) for ev in events]
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
             restart = False
             while not restart:
@@ -372,8 +414,9 @@ class Simulation:
                         "2000 steps: the right-hand side is not smooth here (a nonlinear constraint at "
                         "a singular point, or a friction law without a sticking mode at zero slip)",
                         None if model.source == "<api>" else model.source)
-                ctx = self.context(t_new, ode.y, mode)
-                g_new = [ev.value(ctx) for ev in events]
+                # the integrator's last evaluation was at (t_new, ode.y): the motion reuses it
+                motion = solver.motion(t_new, ode.y, mode)
+                g_new = [ev.value(motion) for ev in events]
                 hits = []
                 dense = None
                 for k, ev in enumerate(events):
@@ -386,7 +429,7 @@ class Simulation:
                     dense = dense or ode.dense_output()
 
                     def g(s, ev=ev, shift=shift):
-                        return ev.value(self.context(s, dense(s), mode)) + shift
+                        return ev.value(solver.motion(s, dense(s), mode)) + shift
                     a, b = t_old, t_new
                     if g(a) <= 0:
                         te = a
@@ -418,22 +461,21 @@ class Simulation:
                     mode = new_mode
                     t = te
                     if times is None:
-                        emit(t, y, mode)
+                        pending = True
                     elif next_time < times.size and abs(times[next_time] - t) <= 1e-14 * max(1, abs(t)):
-                        emit(t, y, mode)
+                        pending = True
                         next_time += 1
                     restart = True
                     continue
                 for k in range(len(events)):
                     if not armed[k] and g_new[k] > tols[k]:
                         armed[k] = True
-                if self.solver.reference:
-                    self.solver.set_references(mode, t_new, ode.y[:n], ode.y[n:2 * n])
-                    ctx = self.context(t_new, ode.y, mode)
-                    g_new = [ev.value(ctx) for ev in events]
+                if solver.reference:  # the slip-stop values change with the reference only
+                    solver.set_references(mode, motion)
+                    g_new = [ev.value(motion) for ev in events]
                 g_prev = g_new
                 # drift control
-                res_p, res_v = self._residuals(ctx, mode)
+                res_p, res_v = self._residuals(motion, mode, drift)
                 residual_max["position"] = max(residual_max["position"], res_p)
                 residual_max["velocity"] = max(residual_max["velocity"], res_v)
                 scale = 1 + np.max(np.abs(ode.y[:2 * n]))
@@ -446,12 +488,11 @@ class Simulation:
                     y[:n], y[n:2 * n] = q, qd
                     projections += 1
                     t = t_new
-                    if times is None:
-                        emit(t, y, mode)
+                    pending = times is None
                     restart = True
                     continue
                 if times is None:
-                    emit(t_new, ode.y, mode, ctx.solution)
+                    emit(t_new, ode.y, mode, motion)
                 else:
                     next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times, next_time,
                                                    mode, emit, include_end=False)
@@ -460,6 +501,8 @@ class Simulation:
                     break
             if stopped or (not restart and ode.status == "finished"):
                 break
+        if pending:  # a switch exactly at the end
+            emit(t, y, mode)
         if times is not None:
             while next_time < times.size and times[next_time] <= t + 1e-12 * max(1, abs(t)):
                 emit(times[next_time], y, mode)
@@ -492,23 +535,23 @@ class Simulation:
                     f"effective normal compliance b = {b:.3g} of the sliding contact vanished -- the "
                     "normal force grows without bound (dynamic jamming)", ode.t, state)
 
-    def _residuals(self, ctx: EventContext, mode: Mode):
-        rows = self.solver.rows(mode)
+    @staticmethod
+    def _residuals(motion: Motion, mode: Mode, drift):
+        """Position and velocity residuals of the mode's rows at a state; *drift* = ``(pos,
+        vel)``, the active kernel rows with a position / velocity level."""
+        pos, vel = drift
         rp = rv = 0.0
-        if rows:
-            obs = ctx.observables
-            pos = [i for i in rows if self.kernel.rows[i].position is not None]
-            vel = [i for i in rows if self.kernel.rows[i].velocity is not None]
+        if pos or vel:
+            obs = motion.observables
             rp = float(np.max(np.abs(obs["pos"][pos]))) if pos else 0.0
             rv = float(np.max(np.abs(obs["vel"][vel]))) if vel else 0.0
-        for name, cs in mode.contacts:
+        for c, (name, cs) in enumerate(mode.contacts):
             if cs.state == SEPARATED:
                 continue
-            cf = ctx.solution.contacts[name]
-            rp = max(rp, abs(cf.gap))
-            rv = max(rv, abs(cf.gap_rate))
+            rp = max(rp, abs(motion.gap(c)))
+            rv = max(rv, abs(motion.gap_rate(c)))
             if cs.state == STICK:
-                rv = max(rv, float(np.max(np.abs(cf.U))))
+                rv = max(rv, float(np.max(np.abs(motion.slip(c)))))
         return rp, rv
 
     @staticmethod
