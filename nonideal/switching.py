@@ -485,6 +485,11 @@ def validate_contacts(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarra
     if not ck:
         return
     x = solver.input(t, q, qd)
+    # a pure function of the model and the input: states already found valid are not checked again
+    key = x.tobytes()
+    seen = _VALIDATED.get(id(ck))
+    if seen is not None and seen[0] is ck and key in seen[1]:
+        return
     cout = {k: np.array(v) if isinstance(v, np.ndarray) else v for k, v in ck(x).items()}
     out = solver.kernel.dynamics(x)
     src = None if solver.model.source == "<api>" else solver.model.source
@@ -514,3 +519,13 @@ def validate_contacts(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarra
                             "normal force can be identified; write the gap as the normal distance")
     if problems:
         raise ModelError(problems, src)
+    if seen is None or seen[0] is not ck or len(seen[1]) > 256:
+        if len(_VALIDATED) > 32:
+            _VALIDATED.clear()
+        seen = _VALIDATED[id(ck)] = (ck, set())
+    seen[1].add(key)
+
+
+# inputs [t, q, q', parameters] at which validate_contacts found a model's contacts valid:
+# {id(contact kernel): (contact kernel, set of input bytes)}
+_VALIDATED: dict[int, tuple] = {}
