@@ -25,7 +25,7 @@ from nonideal.errors import MechanicsError, SingularSystem
 from nonideal.model import Constraint, Model
 from nonideal.modes import SEPARATED, SLIDE, SMOOTH, STICK, ContactState, Mode
 from nonideal.realizability import regularized
-from nonideal.simulation import Simulation
+from nonideal.simulation import WORK_ATOL, Simulation
 from nonideal.switching import effective_compliance
 
 REFERENCE = json.loads((Path(__file__).parent / "data" / "gallery_reference.json").read_text())
@@ -212,4 +212,6 @@ def test_gallery_simulations_are_unchanged(name):
     scale = 1.0 + np.max(np.abs(ref["qd_end"]))
     assert np.max(np.abs(traj.q[-1] - ref["q_end"])) <= 1e-6 * (1.0 + np.max(np.abs(ref["q_end"])))
     assert np.max(np.abs(traj.qd[-1] - ref["qd_end"])) <= 1e-6 * scale
-    assert traj.diagnostics["energy_balance_relative"] <= 10 * ref["energy_balance_relative"] + 1e-14
+    # the work integrals are integrated to WORK_ATOL times the motion's absolute tolerance
+    # since the reference was taken: their error, hence the balance's, may be that much larger
+    assert traj.diagnostics["energy_balance_relative"] <= 10 * WORK_ATOL * ref["energy_balance_relative"] + 1e-14
