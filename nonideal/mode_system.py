@@ -30,13 +30,16 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import symengine as se
 from scipy.linalg import lapack
 
 from .contact_kernel import contact_kernel_of
+from .contacts import RegularizedCoulomb
+from .dynamics import dynamics_of
 from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, RowSpec
-from .numeric import SingularMatrix
+from .numeric import Compiled, SingularMatrix
 
-__all__ = ["ModeSystem", "Motion", "system_of", "compliance_of"]
+__all__ = ["ModeSystem", "ModeFunction", "Motion", "system_of", "compliance_of", "SPECIALIZE_CALLS"]
 
 _dgesv, _dgetrs, _dposv = lapack.dgesv, lapack.dgetrs, lapack.dposv
 
@@ -91,6 +94,8 @@ class ModeSystem:
                 self.tangent_cols.setdefault(r.index, []).append(j)
         self.tangent = [j for cols in self.tangent_cols.values() for j in cols]
         self.contact_rows = m > len(self.row_col)
+        #: active kernel rows with a position level / a velocity level (the drift check)
+        self.drift_rows = kernel.kinematic_level(rows)
         kd = kernel.dynamics
         ksl = {name: sl.start for name, (sl, _) in kd.slices.items()}
         c0 = kd.size  # the contact outputs follow the kernel's in z
@@ -127,6 +132,8 @@ class ModeSystem:
         self.dst = np.array(dst, dtype=np.intp)
         self.rsrc = np.array(rsrc, dtype=np.intp)
         self.power = slice(ksl["P"], ksl["P"] + 2) if "P" in ksl else None
+        self.calls = 0  # evaluations by solve_with_powers (the right-hand side)
+        self._function = None  # the compiled ModeFunction; False: not compilable
 
     # ------------------------------------------------------------------ evaluation
     def assemble(self, solver, t: float, y: np.ndarray, mode: Mode, powers: bool = False):
@@ -183,9 +190,12 @@ class ModeSystem:
         return sol
 
     def solve_with_powers(self, solver, t: float, y: np.ndarray, mode: Mode):
-        """:meth:`solve` and the powers of the reactions: ``(sol, P_reactions, P_friction)``,
-        ``P_reactions`` of the ideal and servo reactions, ``P_friction`` of the friction forces
-        (both ``sum_j lambda_j B_j . q'`` over the rows concerned)."""
+        """:meth:`solve` and the powers: ``(sol, P_reactions, P_friction, P)``, ``P_reactions``
+        of the ideal and servo reactions, ``P_friction`` of the friction forces (both
+        ``sum_j lambda_j B_j . q'`` over the rows concerned), ``P = [P_nc, P_t]`` of the forces
+        and the explicit time dependence (None when the model has none).  The right-hand side
+        of the simulation: it counts towards :data:`SPECIALIZE_CALLS`."""
+        self.calls += 1
         K, r, fq = self.assemble(solver, t, y, mode, powers=True)
         n = self.n
         Bqd = y[n:2 * n] @ K[:n, n:]  # before the factorization overwrites K
@@ -198,11 +208,15 @@ class ModeSystem:
             friction += float(lam[j]) * p  # the column's friction part is -fcol
         for j in self.tangent:
             friction -= float(lam[j] * Bqd[j])
-        return sol, total - friction, friction
+        return sol, total - friction, friction, (solver.kz[self.power] if self.power else None)
 
-    def powers(self, solver) -> np.ndarray:
-        """``[P_nc, P_t]`` (non-potential forces, explicit time) of the last evaluation."""
-        return solver.kz[self.power]
+    def specialized(self, kernel, mode: Mode):
+        """The :class:`ModeFunction` of this structure once it has been evaluated
+        :data:`SPECIALIZE_CALLS` times by :meth:`solve_with_powers` (compiled then, once), or
+        None (before that, without contact rows, or for a law it does not compile)."""
+        if self._function is None and self.calls >= SPECIALIZE_CALLS and self.contact_rows:
+            self._function = ModeFunction.of(kernel, self, mode)
+        return self._function or None
 
     def compliance(self, lu: np.ndarray, piv: np.ndarray, c: int) -> float:
         """Effective normal compliance ``b = dg''/dN`` of touching contact ``c`` from the LU
@@ -213,6 +227,160 @@ class ModeSystem:
         e[i] = 1.0
         inv = _dgetrs(lu, piv, e)[0][i]
         return -1.0 / inv if inv != 0 else math.inf
+
+
+SPECIALIZE_CALLS = 400
+"""Right-hand-side evaluations of a mode structure after which :class:`ModeFunction` compiles
+it: 3-6 ms of compilation for a small system (LLVM, unoptimized), ~10 us saved per
+evaluation (measured on the sphere benchmark: 19 -> 8 us), so it pays for itself after a
+few hundred evaluations -- a long simulation, or a model simulated repeatedly.  Short single
+runs keep the index path (no compilation).  Until then the phases of that mode run on the
+index path; the switch happens at the start of a phase, and the two paths agree to rounding
+(tested to 1e-13), not bit for bit."""
+
+
+class ModeFunction:
+    """The saddle-point system of one mode structure with contact rows, compiled as a whole.
+
+    One Lambdify (:class:`~nonideal.numeric.Compiled`) evaluates ``K`` in Fortran order with
+    the sliding contacts' friction columns ``dg/dq - sigma mu s W`` built in (``s`` the slip
+    direction: an input ``+-1`` for one component; ``rho U/|U|`` for two, ``rho = sign(U .
+    s_ref)`` with the slip reference an input; ``U/sqrt(|U|^2 + eps^2)`` for the smooth law),
+    ``[F; -gamma]``, ``B^T q'``, the friction part of it, the powers ``[P_nc, P_t]`` and, for
+    two slip components, the guards ``|U| - 2e-12 (1 + |q'|)`` and ``U . s_ref``: where a guard
+    fails (slip ~ 0, orientation undefined) the caller takes the index path of
+    :class:`ModeSystem`, whose :meth:`~nonideal.modes.ModeSolver.friction_shape` decides.
+
+    Parameters
+    ----------
+    kernel : Kernel
+    system : ModeSystem
+    mode : Mode
+    """
+
+    def __init__(self, kernel, system: ModeSystem, mode: Mode):
+        dyn = dynamics_of(kernel.model)
+        n, m, s = system.n, system.m, system.s
+        self.n, self.s = n, s
+        qd = dyn.qd
+        zero = se.Integer(0)
+        extra: list = []
+        self.directions = []  # (input position, layout row, contact) of one-component slips
+        self.references = []  # (input position, contact) of two-component slip references
+        guards = []
+        columns, rows, gammas, fpow = [], [], [], []
+        n_in = len(kernel.symbols)
+        for j, r in enumerate(system.layout):
+            if r.kind == "constraint":
+                row = kernel.rows[r.index]
+                g, b, gamma, fp = list(row.G), list(row.B), row.gamma, zero
+            elif r.kind == "tangent":
+                cd = dyn.contacts[r.index]
+                g = b = list(cd.W[r.k])
+                gamma = cd.gamma_U[r.k]
+                fp = sum((w * v for w, v in zip(g, qd)), zero)
+            else:
+                c = r.index
+                cd = dyn.contacts[c]
+                cs = mode.contacts[c][1]
+                g, gamma = list(cd.Gn), cd.gamma_n
+                b, fp = g, zero
+                if cs.state in (SLIDE, SMOOTH):
+                    U = list(cd.U)
+                    law = cd.law
+                    if cs.state == SMOOTH:
+                        if not isinstance(law, RegularizedCoulomb):
+                            raise _NotCompiled  # the epsilon-linear law is piecewise
+                        scale = se.sqrt(sum((u * u for u in U), zero) + law.eps ** 2)
+                        shape = [u / scale for u in U]
+                    elif len(U) == 1:
+                        d = se.Symbol(f"__direction{len(extra)}__")
+                        self.directions.append((n_in + len(extra), c))
+                        extra.append(d)
+                        shape = [d]
+                    else:
+                        ref = [se.Symbol(f"__reference{len(extra) + k}__") for k in range(len(U))]
+                        self.references.append((n_in + len(extra), c))
+                        extra += ref
+                        norm = se.sqrt(sum((u * u for u in U), zero))
+                        dot = sum((u * v for u, v in zip(U, ref)), zero)
+                        shape = [u * dot / (se.Abs(dot) * norm) for u in U]
+                        speed = se.sqrt(sum((v * v for v in qd), zero))
+                        guards += [norm - 2e-12 * (1 + speed), dot]
+                    fcol = [cs.sigma * cd.mu * sum((sk * w[i] for sk, w in zip(shape, cd.W)), zero)
+                            for i in range(n)]
+                    b = [gi - fi for gi, fi in zip(g, fcol)]
+                    fp = -sum((f * v for f, v in zip(fcol, qd)), zero)
+            columns.append(b)
+            rows.append(g)
+            gammas.append(gamma)
+            fpow.append(fp)
+        K = [[dyn.M[i, k] for k in range(n)] + [columns[j][i] for j in range(m)] for i in range(n)]
+        K += [rows[j] + [zero] * m for j in range(m)]
+        # the powers per unit multiplier: of the whole reaction column (B^T q') and of its
+        # friction part, as one (2, m) block
+        outputs = {"K": [K[i][k] for k in range(s) for i in range(s)],
+                   "r": list(dyn.F) + [-gamma for gamma in gammas],
+                   "powers": [[sum((b * v for b, v in zip(col, qd)), zero) for col in columns], fpow]}
+        if kernel.powers is not None:
+            outputs["P"] = kernel.powers
+        if guards:
+            outputs["guard"] = guards
+        self.fn = Compiled(kernel.symbols + extra, outputs)
+        self.n_extra = len(extra)
+        sl = {name: sl for name, (sl, _) in self.fn.slices.items()}
+        self.K, self.r, self.powers, self.P = sl["K"], sl["r"], sl["powers"], sl.get("P")
+        self.m = m
+        # (|U| - bound, U . s_ref) of each two-component slip, by position in the outputs
+        g0 = sl["guard"].start if guards else 0
+        self.guards = [(g0 + k, g0 + k + 1) for k in range(0, len(guards), 2)]
+
+    @classmethod
+    def of(cls, kernel, system: ModeSystem, mode: Mode):
+        """The compiled function, or False when the mode has a law it does not compile."""
+        try:
+            return cls(kernel, system, mode)
+        except _NotCompiled:
+            return False
+
+    def inputs(self, solver, mode: Mode) -> np.ndarray:
+        """An input vector for a phase in *mode*: the solver's (parameters) and the sliding
+        directions of its one-component contacts."""
+        x = np.concatenate((solver.x, np.zeros(self.n_extra)))
+        for i, c in self.directions:
+            x[i] = mode.contacts[c][1].direction[0]
+        return x
+
+    def solve_with_powers(self, solver, x: np.ndarray, t: float, y: np.ndarray, mode: Mode):
+        """As :meth:`ModeSystem.solve_with_powers`, with *x* from :meth:`inputs`; None where a
+        guard fails (the index path decides there).
+
+        Raises
+        ------
+        SingularMatrix
+        """
+        n, s = self.n, self.s
+        x[0] = t
+        x[1:1 + 2 * n] = y[:2 * n]
+        for i, c in self.references:
+            ref = solver.reference.get(c)
+            if ref is None:
+                return None
+            x[i:i + len(ref)] = ref
+        out = self.fn.raw(x)
+        for margin, dot in self.guards:
+            if out[margin] <= 0.0 or out[dot] == 0.0:
+                return None
+        lu, piv, sol, info = _dgesv(out[self.K].reshape((s, s), order="F"), out[self.r])
+        if info != 0 or not (math.isfinite(sol @ sol) or np.all(np.isfinite(sol))):
+            raise SingularMatrix("saddle-point system")
+        solver.last = (t, y, mode, sol, lu, piv)
+        total, friction = out[self.powers].reshape(2, self.m) @ sol[n:]  # sol[n:] = -lambda
+        return sol, friction - total, -friction, (out[self.P] if self.P else None)
+
+
+class _NotCompiled(Exception):
+    """A mode :class:`ModeFunction` does not compile (the epsilon-linear friction law)."""
 
 
 # systems per kernel and mode structure: {(id(kernel), structure): (kernel, ModeSystem)}
@@ -248,6 +416,8 @@ class Motion:
     t : float
     y : ndarray
         ``[q, q', ...]`` (the integrator's state; not modified).
+    kin : ndarray, optional
+        The contact kernel's flat outputs at the state, when the caller has them (not modified).
 
     Notes
     -----
@@ -258,12 +428,13 @@ class Motion:
     __slots__ = ("system", "solver", "mode", "t", "y", "n", "_sol", "_lu", "_piv", "_solution", "_values",
                  "_kin", "_obs", "_dyn")
 
-    def __init__(self, solver, mode: Mode, t: float, y: np.ndarray):
+    def __init__(self, solver, mode: Mode, t: float, y: np.ndarray, kin: np.ndarray | None = None):
         self.solver, self.mode = solver, mode
         self.system = system_of(solver.kernel, mode)
         self.t, self.y, self.n = t, y, self.system.n
         self._sol = self._lu = self._piv = self._solution = None
-        self._values = self._kin = self._obs = self._dyn = None
+        self._values = self._obs = self._dyn = None
+        self._kin = kin
         hit = cached(solver, t, y, mode)
         if hit is not None:
             self._sol, self._lu, self._piv = hit[3:]
@@ -402,7 +573,9 @@ class Motion:
     def contact_record(self, c: int) -> tuple:
         """``(state label, N, F, U, gap, mu_s)`` of contact *c* for a trajectory sample."""
         cs = self.mode.contacts[c][1]
-        return (cs.label(), self.normal(c), self.friction(c), self.slip(c), self.gap(c), self.mu_s(c))
+        at, kin = self.solver.ck.at, self.kin
+        return (cs.label(), self.normal(c), self.friction(c), self.slip(c), float(kin[at["gap"] + c]),
+                float(kin[at["mu_s"] + c]))
 
 
 def compliance_of(M: np.ndarray, B: np.ndarray, G: np.ndarray, j: int) -> float:

@@ -299,12 +299,13 @@ class ModeSolver:
 
         return system_of(self.kernel, mode)
 
-    def motion(self, t: float, y: np.ndarray, mode: Mode):
+    def motion(self, t: float, y: np.ndarray, mode: Mode, kin: np.ndarray | None = None):
         """The :class:`~nonideal.mode_system.Motion` at the state ``y = [q, q', ...]`` (lazy:
-        evaluated on first use; reuses :attr:`last` when it was solved at that state)."""
+        evaluated on first use; reuses :attr:`last` when it was solved at that state, and
+        *kin*, the contact kernel's flat outputs at the state, when given)."""
         from .mode_system import Motion
 
-        return Motion(self, mode, t, y)
+        return Motion(self, mode, t, y, kin)
 
     # ------------------------------------------------------------------ friction shapes
     def friction_shape(self, c: int, cs: ContactState, U: np.ndarray,

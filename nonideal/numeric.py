@@ -261,9 +261,12 @@ class Kernel:
         self.has_nc_forces = any(se.sympify(q) != 0 for q in dyn.Q_nc)
         P_t = se.diff(dyn.V, dyn.t) - se.diff(dyn.T, dyn.t)
         self.explicit_time = P_t != 0
+        #: ``[P_nc, P_t]``: powers of the non-potential forces and of the explicit time
+        #: dependence (None when both vanish identically)
+        self.powers = None
         if self.has_nc_forces or self.explicit_time:
-            P_nc = sum((a * b for a, b in zip(dyn.Q_nc, dyn.qd)), se.Integer(0))
-            outputs["P"] = [P_nc, P_t]
+            self.powers = [sum((a * b for a, b in zip(dyn.Q_nc, dyn.qd)), se.Integer(0)), P_t]
+            outputs["P"] = self.powers
         self.dynamics = Compiled(self.symbols, outputs)
         self.m = m
         self._obs = None

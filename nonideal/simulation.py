@@ -121,23 +121,23 @@ class Simulation:
                 return np.concatenate((y[n:2 * n], sol[:n]))
             return fun
 
-        powers = system.power is not None
+        # the compiled system, once this mode structure has been integrated long enough
+        function = system.specialized(self.kernel, mode)
+        x = function.inputs(solver, mode) if function else None
 
         def fun(t, y):
             try:
-                sol, P_R, P_f = system.solve_with_powers(solver, t, y, mode)
+                out = function.solve_with_powers(solver, x, t, y, mode) if function else None
+                if out is None:
+                    out = system.solve_with_powers(solver, t, y, mode)
             except SingularMatrix:
                 return general(t, y)
+            sol, P_R, P_f, P = out
             dy = np.empty_like(y)
             dy[:n] = y[n:2 * n]
             dy[n:2 * n] = sol[:n]
-            dy[2 * n + 1] = P_R
-            dy[2 * n + 3] = P_f
-            dy[2 * n + 4] = 0.0  # impacts change it only at switches
-            if powers:
-                dy[2 * n], dy[2 * n + 2] = system.powers(solver)
-            else:
-                dy[2 * n] = dy[2 * n + 2] = 0.0
+            # works: active, reactions, explicit time, friction, impacts (changed at switches)
+            dy[2 * n:] = (0.0, P_R, 0.0, P_f, 0.0) if P is None else (P[0], P_R, P[1], P_f, 0.0)
             return dy
         return fun
 
@@ -420,7 +420,7 @@ class Simulation:
         while t < t_end:
             fun = self.rhs(mode)
             events = self.events(mode, t, y)
-            drift = self.kernel.kinematic_level(solver.rows(mode))
+            drift = solver.system(mode).drift_rows
             kwargs = dict(rtol=self.rtol, atol=atol, max_step=self.max_step)
             if h is not None and self.method not in ("LSODA",):
                 kwargs["first_step"] = min(h, t_end - t)

@@ -21,6 +21,7 @@ reported with the contact, the state and the critical friction coefficient.
 from __future__ import annotations
 
 import itertools
+import math
 
 import numpy as np
 from scipy.optimize import brentq
@@ -109,13 +110,13 @@ def _onset_directions(solver: ModeSolver, t, q, qd, mode: Mode, c: int):
 
 def _consistent(solver, motion, mode, closed_uni, scales, onset_check=True):
     """Sign conditions of a candidate mode (see the module docstring) on its
-    :class:`~nonideal.mode_system.Motion`; *scales* from :func:`_scales`."""
+    :class:`~nonideal.mode_system.Motion`; *scales*: ``1 + max |q|``, ``1 + max |q'|`` and
+    ``1 + max |F|`` at the state."""
     kernel = solver.kernel
-    sq, sv = scales
+    sq, sv, sf = scales
     qdd, values = motion.qdd, motion.values
-    fscale = motion.force_scale() + float(np.max(np.abs(values), initial=0.0))
-    tol_f = 1e-9 * fscale
-    tol_a = 1e-9 * (1.0 + float(np.max(np.abs(qdd))))
+    tol_f = 1e-9 * (sf + (float(np.abs(values).max()) if values.size else 0.0))
+    tol_a = 1e-9 * (1.0 + float(np.abs(qdd).max()))
     for i in closed_uni:
         name = kernel.rows[i].name
         if name in mode.held:
@@ -201,7 +202,7 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
     copts = contact_options(solver, t, q, qd, tol_pos, tol_vel)
     held_sets = [frozenset(names[j] for j in sub)
                  for k in range(len(closed), -1, -1) for sub in itertools.combinations(range(len(closed)), k)]
-    total = len(held_sets) * int(np.prod([len(o) for o in copts])) if copts else len(held_sets)
+    total = len(held_sets) * math.prod(len(o) for o in copts)
     if total > MAX_COMBINATIONS:
         raise MechanicsError(f"too many simultaneous contact states to enumerate ({total})", t)
     consistent = []
@@ -211,7 +212,11 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
     # after the first level of stickiness with a consistent choice (sliding onsets, which need a
     # direction search, are then never explored)
     candidates.sort(key=lambda hc: -sum(1 for cs in hc[1] if cs.state == STICK))
+    # what every candidate shares: the state, its kinematics and the scale of the forces
     y = np.concatenate((q, qd))
+    x = solver.input(t, q, qd)
+    kin = solver.ck.fn.raw(x, np.empty(solver.ck.size)) if solver.ck else None
+    scales = (sq, sv, 1.0 + float(np.abs(kernel.dynamics(x)["F"]).max()))
     level = None
     fallback = None
     singular: list[Exception] = []
@@ -229,15 +234,15 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
                         expanded.append(m.with_contact(solver.ck.names[c], ContactState(SLIDE, s, cs.sigma)))
                 modes = expanded
         for mode in modes:
-            motion = solver.motion(t, y, mode)
+            motion = solver.motion(t, y, mode, kin)
             try:
                 qdd = motion.qdd
             except (SingularSystem, MechanicsError) as exc:
                 singular.append(exc)
                 continue
-            if not np.all(np.isfinite(qdd)):
+            if not np.isfinite(qdd).all():
                 continue
-            if _consistent(solver, motion, mode, closed, (sq, sv)):
+            if _consistent(solver, motion, mode, closed, scales):
                 if exclude is not None and _same(mode, exclude):
                     fallback = (mode, motion)
                     continue

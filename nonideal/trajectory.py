@@ -91,16 +91,15 @@ class Trajectory:
         obs = kernel.observables.views(kernel.observables.batch(X))
         M = kernel.dynamics.views(kernel.dynamics.batch(X))["M"]
         for k, m in enumerate(motions):
-            active = list(m.system.row_col)
-            if active:
+            if m.system.row_col:
                 values = m.values
                 for i, j in m.system.row_col.items():
                     mult[rows[i].name][k] = values[j]
-                pos, vel = kernel.kinematic_level(active)
+                pos, vel = m.system.drift_rows
                 if pos:
-                    res_p = max(res_p, float(np.max(np.abs(obs["pos"][k, pos]))))
+                    res_p = max(res_p, float(np.abs(obs["pos"][k, pos]).max()))
                 if vel:
-                    res_v = max(res_v, float(np.max(np.abs(obs["vel"][k, vel]))))
+                    res_v = max(res_v, float(np.abs(obs["vel"][k, vel]).max()))
             for c, name in enumerate(ck.names if ck else ()):
                 rec = contacts[name]
                 (label, rec["normal"][k], rec["friction"][k], rec["slip"][k], rec["gap"][k],

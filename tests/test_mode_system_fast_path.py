@@ -23,7 +23,9 @@ from nonideal import gallery
 from nonideal.contacts import Contact, Coulomb
 from nonideal.errors import MechanicsError, SingularSystem
 from nonideal.model import Constraint, Model
+from nonideal.mode_system import ModeFunction
 from nonideal.modes import SEPARATED, SLIDE, SMOOTH, STICK, ContactState, Mode
+from nonideal.numeric import SingularMatrix
 from nonideal.realizability import regularized
 from nonideal.simulation import WORK_ATOL, Simulation
 from nonideal.switching import effective_compliance
@@ -215,3 +217,75 @@ def test_gallery_simulations_are_unchanged(name):
     # the work integrals are integrated to WORK_ATOL times the motion's absolute tolerance
     # since the reference was taken: their error, hence the balance's, may be that much larger
     assert traj.diagnostics["energy_balance_relative"] <= 10 * WORK_ATOL * ref["energy_balance_relative"] + 1e-14
+
+
+@pytest.mark.parametrize("name", ["ball-cart", "bead-on-guide", "painleve-rod", "stick-slip-oscillator",
+                                  "sphere-regularized"])
+def test_compiled_mode_function_equals_the_index_path(name):
+    sim, cases = modes_and_states(MODELS[name](), count=3, seed=4)
+    solver, kernel = sim.solver, sim.kernel
+    checked = 0
+    for mode, t, y in cases:
+        system = solver.system(mode)
+        if not system.contact_rows:
+            continue
+        function = ModeFunction.of(kernel, system, mode)
+        solver.reference = {c: np.array(cs.direction) for c, (_, cs) in enumerate(mode.contacts)
+                            if cs.state == SLIDE and len(cs.direction) == 2}
+        try:
+            ref = system.solve_with_powers(solver, t, y, mode)
+        except SingularMatrix:
+            continue
+        out = function.solve_with_powers(solver, function.inputs(solver, mode), t, y, mode)
+        assert out is not None
+        scale = 1.0 + np.max(np.abs(ref[0]))
+        assert np.max(np.abs(out[0] - ref[0])) <= 1e-13 * scale, mode.label()
+        for a, b in zip(out[1:], ref[1:]):
+            if b is not None:
+                assert np.max(np.abs(np.asarray(a) - b)) <= 1e-13 * (1.0 + np.max(np.abs(b))) * scale
+        assert solver.last[3] is out[0]  # the step-end motion will find it
+        checked += 1
+    assert checked >= 3
+
+
+def test_compiled_mode_function_leaves_degenerate_slips_to_the_index_path():
+    model = ball_cart()
+    sim = Simulation(model)
+    solver, n = sim.solver, sim.n
+    mode = Mode(frozenset(), (("plane", ContactState(SLIDE, (0.6, 0.8))),))
+    function = ModeFunction.of(sim.kernel, solver.system(mode), mode)
+    x = function.inputs(solver, mode)
+    y = np.zeros(2 * n + 5)
+    y[n:2 * n] = [1.0, 0.5, 0.0, 2.0, 0.0, 0.3]  # U = (x' - R b', y' + R a') = (1, 0.7)
+    solver.reference = {}
+    assert function.solve_with_powers(solver, x, 0.0, y, mode) is None  # no slip reference yet
+    solver.reference = {0: np.array([0.0, 0.0])}
+    assert function.solve_with_powers(solver, x, 0.0, y, mode) is None  # U . s_ref = 0
+    solver.reference = {0: np.array([0.6, 0.8])}
+    assert function.solve_with_powers(solver, x, 0.0, y, mode) is not None
+    y[n + 3] = 0.0
+    y[n:n + 2] = [0.0, 0.0]  # no slip: the index path's friction_shape decides
+    assert function.solve_with_powers(solver, x, 0.0, y, mode) is None
+    linear = regularized(model, 1e-3)  # the epsilon-linear law is piecewise: not compiled
+    sim = Simulation(linear)
+    smooth = Mode(frozenset(), (("plane", ContactState(SMOOTH)),))
+    assert ModeFunction.of(sim.kernel, sim.solver.system(smooth), smooth) is False
+
+
+@pytest.mark.parametrize("name", ["sphere-sliding-on-plane", "painleve-rod", "stick-slip-oscillator",
+                                  "car-on-a-turn", "block-on-incline"])
+def test_simulation_with_compiled_modes_agrees_with_the_index_path(name, monkeypatch):
+    model = gallery.load(name)
+    index = nonideal.simulate(model)
+    import nonideal.mode_system as mode_system
+
+    mode_system._SYSTEMS.clear()
+    monkeypatch.setattr(mode_system, "SPECIALIZE_CALLS", 0)
+    compiled = nonideal.simulate(model)
+    assert any(entry[1]._function for entry in mode_system._SYSTEMS.values())
+    assert [e["type"] for e in compiled.events] == [e["type"] for e in index.events]
+    for a, b in zip(compiled.events, index.events):
+        assert abs(a["t"] - b["t"]) <= 1e-10 * max(1.0, abs(b["t"]))
+    assert np.max(np.abs(compiled.qd[-1] - index.qd[-1])) <= 1e-8 * (1 + np.max(np.abs(index.qd[-1])))
+    assert compiled.diagnostics["energy_balance_relative"] < 1e-8
+    mode_system._SYSTEMS.clear()
