@@ -133,7 +133,8 @@ class ModeSystem:
         self.rsrc = np.array(rsrc, dtype=np.intp)
         self.power = slice(ksl["P"], ksl["P"] + 2) if "P" in ksl else None
         self.calls = 0  # evaluations by solve_with_powers (the right-hand side)
-        self._function = None  # the compiled ModeFunction; False: not compilable
+        #: the compiled :class:`ModeFunction` once the structure is hot (False: not compilable)
+        self.function = None
 
     # ------------------------------------------------------------------ evaluation
     def assemble(self, solver, t: float, y: np.ndarray, mode: Mode, powers: bool = False):
@@ -214,9 +215,9 @@ class ModeSystem:
         """The :class:`ModeFunction` of this structure once it has been evaluated
         :data:`SPECIALIZE_CALLS` times by :meth:`solve_with_powers` (compiled then, once), or
         None (before that, without contact rows, or for a law it does not compile)."""
-        if self._function is None and self.calls >= SPECIALIZE_CALLS and self.contact_rows:
-            self._function = ModeFunction.of(kernel, self, mode)
-        return self._function or None
+        if self.function is None and self.calls >= SPECIALIZE_CALLS and self.contact_rows:
+            self.function = ModeFunction.of(kernel, self, mode)
+        return self.function or None
 
     def compliance(self, lu: np.ndarray, piv: np.ndarray, c: int) -> float:
         """Effective normal compliance ``b = dg''/dN`` of touching contact ``c`` from the LU
@@ -454,15 +455,21 @@ class Motion:
             if self.solver.form == "lagrange1":
                 hit = cached(self.solver, self.t, self.y, self.mode)
                 try:
-                    if hit is None:
-                        self.system.solve(self.solver, self.t, self.y, self.mode)
-                        hit = self.solver.last
-                    self._sol, self._lu, self._piv = hit[3:]
+                    self._sol, self._lu, self._piv = (hit or self._solve())[3:]
                 except SingularMatrix:
                     pass
             if self._sol is None:  # other forms, or a singular system: the general path
                 self._solution = self.solver.solve(self.t, self.q, self.qd, self.mode)
         return self._sol
+
+    def _solve(self) -> tuple:
+        """Solve at this state (the compiled system of a hot mode, else the index path); the
+        solver's :attr:`last`."""
+        system, solver, mode = self.system, self.solver, self.mode
+        function = system.function
+        if not (function and function.solve_with_powers(solver, function.inputs(solver, mode), self.t, self.y, mode)):
+            system.solve(solver, self.t, self.y, mode)
+        return solver.last
 
     @property
     def qdd(self) -> np.ndarray:
@@ -572,10 +579,9 @@ class Motion:
 
     def contact_record(self, c: int) -> tuple:
         """``(state label, N, F, U, gap, mu_s)`` of contact *c* for a trajectory sample."""
-        cs = self.mode.contacts[c][1]
         at, kin = self.solver.ck.at, self.kin
-        return (cs.label(), self.normal(c), self.friction(c), self.slip(c), float(kin[at["gap"] + c]),
-                float(kin[at["mu_s"] + c]))
+        return (self.mode.contacts[c][1].label(), self.normal(c), self.friction(c), self.slip(c),
+                kin[at["gap"] + c], kin[at["mu_s"] + c])
 
 
 def compliance_of(M: np.ndarray, B: np.ndarray, G: np.ndarray, j: int) -> float:

@@ -59,6 +59,10 @@ class ContactState:
     sigma: int = 1
 
     def label(self) -> str:
+        return self._label
+
+    @cached_property
+    def _label(self) -> str:
         if self.state == SLIDE and len(self.direction) == 1:
             out = "slide+" if self.direction[0] > 0 else "slide-"
         else:
@@ -85,6 +89,10 @@ class Mode:
         return ContactState()
 
     def label(self) -> str:
+        return self._label
+
+    @cached_property
+    def _label(self) -> str:
         parts = sorted(self.held)
         parts += [f"{n}:{cs.label()}" for n, cs in self.contacts]
         return ", ".join(parts) if parts else "free"

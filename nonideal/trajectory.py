@@ -85,7 +85,8 @@ class Trajectory:
                            "gap": np.zeros(N), "mu_static": np.zeros(N), "mode": []}
                     for name, d in zip(ck.names, ck.dims)} if ck else {}
         res_p = res_v = 0.0
-        X = np.tile(solver.x, (N, 1))
+        X = np.empty((N, len(solver.x)))
+        X[:] = solver.x
         X[:, 0] = t
         X[:, 1:1 + 2 * n] = Y[:, :2 * n]
         obs = kernel.observables.views(kernel.observables.batch(X))

@@ -282,7 +282,7 @@ def test_simulation_with_compiled_modes_agrees_with_the_index_path(name, monkeyp
     mode_system._SYSTEMS.clear()
     monkeypatch.setattr(mode_system, "SPECIALIZE_CALLS", 0)
     compiled = nonideal.simulate(model)
-    assert any(entry[1]._function for entry in mode_system._SYSTEMS.values())
+    assert any(entry[1].function for entry in mode_system._SYSTEMS.values())
     assert [e["type"] for e in compiled.events] == [e["type"] for e in index.events]
     for a, b in zip(compiled.events, index.events):
         assert abs(a["t"] - b["t"]) <= 1e-10 * max(1.0, abs(b["t"]))
