@@ -26,9 +26,8 @@ event                   value                                 in mode
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
-
-import numpy as np
 
 __all__ = ["Event", "Release", "Touch", "ContactTouch", "Lift", "SlipStart", "SlipStop", "Jam"]
 
@@ -100,7 +99,7 @@ class SlipStart(ContactEvent):
 
     def value(self, motion) -> float:
         F = motion.friction(self.row)
-        return motion.mu_s(self.row) * abs(motion.normal(self.row)) - float(np.sqrt(F @ F))
+        return motion.mu_s(self.row) * abs(motion.normal(self.row)) - math.sqrt(F @ F)
 
 
 @dataclass(frozen=True)
@@ -115,7 +114,7 @@ class SlipStop(ContactEvent):
         if len(U) == 1:
             return self.direction * float(U[0])
         ref = motion.solver.reference.get(self.row)
-        return float(U @ ref) if ref is not None else float(np.sqrt(U @ U))
+        return float(U @ ref) if ref is not None else math.sqrt(U @ U)
 
 
 @dataclass(frozen=True)

@@ -355,8 +355,8 @@ class ModeSolver:
         for c, (name, cs) in enumerate(mode.contacts):
             if cs.state == SLIDE and self.ck.dims[c] > 1:
                 U = motion.slip(c)
-                nrm = float(np.sqrt(U @ U))
-                scale = 1e-12 * (1.0 + float(np.max(np.abs(motion.qd))))
+                nrm = math.sqrt(U @ U)
+                scale = 1e-12 * (1.0 + float(np.abs(motion.qd).max()))
                 if nrm > scale:
                     self.reference[c] = U / nrm
                 elif cs.direction:

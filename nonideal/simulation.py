@@ -218,8 +218,8 @@ class Simulation:
         if isinstance(ev, Jam):
             return 1e-12
         if isinstance(ev, SlipStop):
-            return 1e-10 * (1.0 + float(np.max(np.abs(motion.qd))))
-        return 1e-10 * (1.0 + float(np.max(np.abs(motion.q))))
+            return 1e-10 * (1.0 + float(np.abs(motion.qd).max()))
+        return 1e-10 * (1.0 + float(np.abs(motion.q).max()))
 
     # ------------------------------------------------------------------ switching
     def _switch(self, t: float, y: np.ndarray, mode: Mode, ev: Event):
@@ -424,7 +424,7 @@ class Simulation:
             kwargs = dict(rtol=self.rtol, atol=atol, max_step=self.max_step)
             if h is not None and self.method not in ("LSODA",):
                 kwargs["first_step"] = min(h, t_end - t)
-            motion = solver.motion(t, y, mode)
+            motion = Motion(solver, mode, t, y)
             if pending:
                 emit(t, y, mode, motion)
                 pending = False
@@ -450,7 +450,7 @@ class Simulation:
                         "a singular point, or a friction law without a sticking mode at zero slip)",
                         None if model.source == "<api>" else model.source)
                 # the integrator's last evaluation was at (t_new, ode.y): the motion reuses it
-                motion = solver.motion(t_new, ode.y, mode)
+                motion = Motion(solver, mode, t_new, ode.y)
                 g_new = [ev.value(motion) for ev in events]
                 hits = []
                 dense = None
@@ -464,7 +464,7 @@ class Simulation:
                     dense = dense or ode.dense_output()
 
                     def g(s, ev=ev, shift=shift):
-                        return ev.value(solver.motion(s, dense(s), mode)) + shift
+                        return ev.value(Motion(solver, mode, s, dense(s))) + shift
                     a, b = t_old, t_new
                     if g(a) <= 0:
                         te = a
@@ -473,9 +473,11 @@ class Simulation:
                     hits.append((te, k))
                 if hits:
                     te, k = min(hits)
-                    next_time = self._sample_dense(dense, t_old, te, times, next_time, mode, emit,
-                                                   include_end=times is None)
                     ye = dense(te)
+                    if times is None:
+                        emit(te, ye, mode)  # the state at the event, before the switch
+                    else:
+                        next_time = self._sample_dense(dense, t_old, te, times, next_time, mode, emit)
                     if stop_on and events[k].kind in stop_on:
                         if times is not None:
                             emit(te, ye, mode)
@@ -513,11 +515,11 @@ class Simulation:
                 res_p, res_v = self._residuals(motion, mode, drift)
                 residual_max["position"] = max(residual_max["position"], res_p)
                 residual_max["velocity"] = max(residual_max["velocity"], res_v)
-                scale = 1 + np.max(np.abs(ode.y[:2 * n]))
+                scale = 1.0 + float(np.abs(ode.y[:2 * n]).max())
                 if max(res_p, res_v) > PROJECTION_TOL * scale:
                     if times is not None:
                         next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times,
-                                                       next_time, mode, emit, include_end=False)
+                                                       next_time, mode, emit)
                     y = ode.y.copy()
                     q, qd = self._project(mode, t_new, y[:n], y[n:2 * n])
                     y[:n], y[n:2 * n] = q, qd
@@ -530,7 +532,7 @@ class Simulation:
                     emit(t_new, ode.y, mode, motion)
                 else:
                     next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times, next_time,
-                                                   mode, emit, include_end=False)
+                                                   mode, emit)
                 t, y = t_new, ode.y
                 if ode.status == "finished":
                     break
@@ -578,23 +580,21 @@ class Simulation:
         rp = rv = 0.0
         if pos or vel:
             obs = motion.observables
-            rp = float(np.max(np.abs(obs["pos"][pos]))) if pos else 0.0
-            rv = float(np.max(np.abs(obs["vel"][vel]))) if vel else 0.0
+            rp = float(np.abs(obs["pos"][pos]).max()) if pos else 0.0
+            rv = float(np.abs(obs["vel"][vel]).max()) if vel else 0.0
         for c, (name, cs) in enumerate(mode.contacts):
             if cs.state == SEPARATED:
                 continue
             rp = max(rp, abs(motion.gap(c)))
             rv = max(rv, abs(motion.gap_rate(c)))
             if cs.state == STICK:
-                rv = max(rv, float(np.max(np.abs(motion.slip(c)))))
+                rv = max(rv, float(np.abs(motion.slip(c)).max()))
         return rp, rv
 
     @staticmethod
-    def _sample_dense(dense, t_old, t_new, times, next_time, mode, emit, include_end):
-        if times is None:
-            if include_end:
-                emit(t_new, dense(t_new), mode)
-            return next_time
+    def _sample_dense(dense, t_old, t_new, times, next_time, mode, emit):
+        """Emit the requested *times* in ``[t_old, t_new]`` from the dense output; the index
+        of the next one."""
         while next_time < times.size and times[next_time] <= t_new:
             if times[next_time] >= t_old:
                 emit(times[next_time], dense(times[next_time]), mode)
