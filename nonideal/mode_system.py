@@ -37,7 +37,7 @@ from .contact_kernel import contact_kernel_of
 from .contacts import RegularizedCoulomb
 from .dynamics import dynamics_of
 from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, RowSpec
-from .numeric import Compiled, SingularMatrix
+from .numeric import Compiled, SingularMatrix, max_abs
 
 __all__ = ["ModeSystem", "ModeFunction", "Motion", "system_of", "compliance_of", "SPECIALIZE_CALLS"]
 
@@ -523,7 +523,7 @@ class Motion:
 
     def force_scale(self) -> float:
         """``1 + max |F|`` (generalized forcing): the scale of force-like event tolerances."""
-        return 1.0 + float(np.abs(self._dynamics("F")).max())
+        return 1.0 + max_abs(self._dynamics("F"))
 
     def constraint_acc(self, row: int) -> float:
         """``f'' = G q'' + gamma`` of kernel row *row* (a released unilateral constraint)."""

@@ -27,7 +27,7 @@ from .contacts import Coulomb, LinearizedCoulomb, RegularizedCoulomb
 from .dynamics import dynamics_of
 from .errors import FormNotApplicable, MechanicsError, SingularSystem
 from .formalisms import derive
-from .numeric import FormSystem, Kernel, SingularMatrix, solve_saddle
+from .numeric import FormSystem, Kernel, SingularMatrix, max_abs, solve_saddle
 
 __all__ = ["Mode", "ContactState", "RowSpec", "Solution", "ContactForce", "ModeSolver",
            "SEPARATED", "STICK", "SLIDE", "SMOOTH"]
@@ -335,7 +335,7 @@ class ModeSolver:
             qd = self.x[1 + self.n:1 + 2 * self.n]
         ref = self.reference.get(c)
         # |U| > 1e-12 (1 + max |q'|); the cheap bound 2e-12 (1 + |q'|) decides all but tiny slips
-        if nrm > 2e-12 * (1.0 + math.sqrt(qd @ qd)) or nrm > 1e-12 * (1.0 + float(np.max(np.abs(qd)))):
+        if nrm > 2e-12 * (1.0 + math.sqrt(qd @ qd)) or nrm > 1e-12 * (1.0 + max_abs(qd)):
             s = U / nrm
             # analytic continuation through U = 0 within a step: keep the orientation of the
             # slip at the start of the step, so that the right-hand side stays smooth up to
@@ -356,7 +356,7 @@ class ModeSolver:
             if cs.state == SLIDE and self.ck.dims[c] > 1:
                 U = motion.slip(c)
                 nrm = math.sqrt(U @ U)
-                scale = 1e-12 * (1.0 + float(np.abs(motion.qd).max()))
+                scale = 1e-12 * (1.0 + max_abs(motion.qd))
                 if nrm > scale:
                     self.reference[c] = U / nrm
                 elif cs.direction:

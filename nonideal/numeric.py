@@ -35,7 +35,7 @@ from .eom import EquationsOfMotion
 from .errors import ModelError, SingularSystem, did_you_mean
 from .model import Model
 
-__all__ = ["Compiled", "Kernel", "FormSystem", "solve_saddle", "SingularMatrix", "kernel_of"]
+__all__ = ["Compiled", "Kernel", "FormSystem", "solve_saddle", "SingularMatrix", "kernel_of", "max_abs"]
 
 
 class SingularMatrix(Exception):
@@ -154,6 +154,12 @@ class Compiled:
         lead = flat.shape[:-1]
         return {name: flat[..., sl].reshape(lead + shape) if (shape or lead) else None
                 for name, (sl, shape) in self.slices.items()}
+
+
+def max_abs(v: np.ndarray) -> float:
+    """``max |v_i|`` of a small finite vector (0 when empty): in Python, 2-4x faster than the
+    NumPy reductions at the sizes of a mechanical state (the scales of tolerances)."""
+    return max(map(abs, v.tolist()), default=0.0)
 
 
 _dposv, _dgesv = lapack.dposv, lapack.dgesv

@@ -32,7 +32,7 @@ from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop
 from .model import Model
 from .mode_system import Motion
 from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, ModeSolver
-from .numeric import SingularMatrix, kernel_of, parameter_vector
+from .numeric import SingularMatrix, kernel_of, max_abs, parameter_vector
 from .switching import effective_compliance, impact, select_mode, validate_contacts
 from .trajectory import Sample, Trajectory
 
@@ -218,8 +218,8 @@ class Simulation:
         if isinstance(ev, Jam):
             return 1e-12
         if isinstance(ev, SlipStop):
-            return 1e-10 * (1.0 + float(np.abs(motion.qd).max()))
-        return 1e-10 * (1.0 + float(np.abs(motion.q).max()))
+            return 1e-10 * (1.0 + max_abs(motion.qd))
+        return 1e-10 * (1.0 + max_abs(motion.q))
 
     # ------------------------------------------------------------------ switching
     def _switch(self, t: float, y: np.ndarray, mode: Mode, ev: Event):
@@ -266,7 +266,8 @@ class Simulation:
     def _project(self, mode: Mode, t, q, qd):
         """Project onto the constraint rows of *mode* (constraints, closed gaps, stick rows)."""
         rows = self.solver.rows(mode)
-        q, qd = project_state(self.kernel, rows, t, q, qd, self.params)
+        if rows:
+            q, qd = project_state(self.kernel, rows, t, q, qd, self.params)
         if not self.contacts:
             return q, qd
         ck = self.solver.ck
@@ -287,8 +288,8 @@ class Simulation:
                         rv.append(float(cout["U"][o + k]))
             if not Gp:
                 break
-            scale = 1 + np.max(np.abs(q))
-            if max(np.max(np.abs(rp)), np.max(np.abs(rv), initial=0.0)) < 1e-14 * scale:
+            scale = 1.0 + max_abs(q)
+            if max(map(abs, rp + rv)) < 1e-14 * scale:
                 break
             out = self.kernel.dynamics(self.solver.input(t, q, qd)) if rows else None
             for i in rows:  # keep the constraints while correcting the contacts
@@ -515,7 +516,7 @@ class Simulation:
                 res_p, res_v = self._residuals(motion, mode, drift)
                 residual_max["position"] = max(residual_max["position"], res_p)
                 residual_max["velocity"] = max(residual_max["velocity"], res_v)
-                scale = 1.0 + float(np.abs(ode.y[:2 * n]).max())
+                scale = 1.0 + max_abs(ode.y[:2 * n])
                 if max(res_p, res_v) > PROJECTION_TOL * scale:
                     if times is not None:
                         next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times,
@@ -588,7 +589,7 @@ class Simulation:
             rp = max(rp, abs(motion.gap(c)))
             rv = max(rv, abs(motion.gap_rate(c)))
             if cs.state == STICK:
-                rv = max(rv, float(np.abs(motion.slip(c)).max()))
+                rv = max(rv, max_abs(motion.slip(c)))
         return rp, rv
 
     @staticmethod

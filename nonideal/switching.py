@@ -29,7 +29,7 @@ from scipy.optimize import brentq
 from .errors import MechanicsError, PainleveParadox, SingularSystem
 from .mode_system import compliance_of
 from .modes import SEPARATED, SLIDE, SMOOTH, STICK, ContactState, Mode, ModeSolver
-from .numeric import SingularMatrix, solve_saddle
+from .numeric import SingularMatrix, max_abs, solve_saddle
 
 __all__ = ["select_mode", "impact", "effective_compliance", "critical_friction", "MAX_COMBINATIONS"]
 
@@ -37,7 +37,7 @@ MAX_COMBINATIONS = 4096
 
 
 def _scales(q, qd):
-    return 1.0 + float(np.abs(q).max()), 1.0 + float(np.abs(qd).max())
+    return 1.0 + max_abs(q), 1.0 + max_abs(qd)
 
 
 def contact_options(solver: ModeSolver, t, q, qd, tol_pos=1e-9, tol_vel=1e-9, previous: Mode | None = None):
@@ -115,8 +115,8 @@ def _consistent(solver, motion, mode, closed_uni, scales, onset_check=True):
     kernel = solver.kernel
     sq, sv, sf = scales
     qdd, values = motion.qdd, motion.values
-    tol_f = 1e-9 * (sf + (float(np.abs(values).max()) if values.size else 0.0))
-    tol_a = 1e-9 * (1.0 + float(np.abs(qdd).max()))
+    tol_f = 1e-9 * (sf + max_abs(values))
+    tol_a = 1e-9 * (1.0 + max_abs(qdd))
     for i in closed_uni:
         name = kernel.rows[i].name
         if name in mode.held:
@@ -216,7 +216,7 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
     y = np.concatenate((q, qd))
     x = solver.input(t, q, qd)
     kin = solver.ck.fn.raw(x, np.empty(solver.ck.size)) if solver.ck else None
-    scales = (sq, sv, 1.0 + float(np.abs(kernel.dynamics(x)["F"]).max()))
+    scales = (sq, sv, 1.0 + max_abs(kernel.dynamics(x)["F"]))
     level = None
     fallback = None
     singular: list[Exception] = []
@@ -277,7 +277,7 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
             least = min(change(m) for m, _ in preferred)
             preferred = [(m, sol) for m, sol in preferred if change(m) == least]
     m0, s0 = preferred[0]
-    scale = 1e-7 * (1.0 + float(np.max(np.abs(s0.qdd))))
+    scale = 1e-7 * (1.0 + max_abs(s0.qdd))
     distinct = [(m, s) for m, s in preferred[1:] if not np.allclose(s.qdd, s0.qdd, rtol=1e-7, atol=scale)]
     if distinct:
         m1 = distinct[0][0]
