@@ -40,23 +40,24 @@ def _scales(q, qd):
     return 1.0 + max_abs(q), 1.0 + max_abs(qd)
 
 
-def contact_options(solver: ModeSolver, t, q, qd, tol_pos=1e-9, tol_vel=1e-9, previous: Mode | None = None):
-    """Admissible states of every contact at a state (closed contacts get several)."""
+def contact_options(solver: ModeSolver, kin: np.ndarray, scales, tol_pos=1e-9, tol_vel=1e-9):
+    """Admissible states of every contact at a state (closed contacts get several); *kin*: the
+    contact kernel's flat outputs there, *scales*: ``1 + max |q|``, ``1 + max |q'|``."""
     ck = solver.ck
     if not ck:
         return []
-    cout = ck(solver.input(t, q, qd))
-    sq, sv = _scales(q, qd)
+    sq, sv = scales
+    at = ck.at
     options = []
     for c, data in enumerate(ck.data):
-        gap, rate = cout["gap"][c], cout["gap_rate"][c]
+        gap, rate = kin[at["gap"] + c], kin[at["gap_rate"] + c]
         closed = data.bilateral or (abs(gap) <= tol_pos * sq and rate <= tol_vel * sv)
         if not closed:
             options.append([ContactState(SEPARATED)])
             continue
         opts = [] if data.bilateral else [ContactState(SEPARATED)]
         sigmas = (1, -1) if data.bilateral else (1,)
-        U = ck.slip(cout, c)
+        U = kin[at["U"] + ck.offsets[c]:at["U"] + ck.offsets[c] + ck.dims[c]]
         if not solver.laws[c].exact:
             opts += [ContactState(SMOOTH, (), s) for s in sigmas]
         elif np.sqrt(U @ U) <= tol_vel * sv:
@@ -199,7 +200,12 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
         closed = [i for i in solver.unilateral
                   if abs(obs["pos"][i]) <= tol_pos * sq and obs["vel"][i] <= tol_vel * sv]
     names = [kernel.rows[i].name for i in closed]
-    copts = contact_options(solver, t, q, qd, tol_pos, tol_vel)
+    # what every candidate shares: the state, its kinematics and the scale of the forces
+    y = np.concatenate((q, qd))
+    x = solver.input(t, q, qd)
+    kin = solver.ck.fn.raw(x, np.empty(solver.ck.size)) if solver.ck else None
+    scales = (sq, sv, 1.0 + max_abs(kernel.dynamics(x)["F"]))
+    copts = contact_options(solver, kin, (sq, sv), tol_pos, tol_vel)
     held_sets = [frozenset(names[j] for j in sub)
                  for k in range(len(closed), -1, -1) for sub in itertools.combinations(range(len(closed)), k)]
     total = len(held_sets) * math.prod(len(o) for o in copts)
@@ -212,11 +218,6 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
     # after the first level of stickiness with a consistent choice (sliding onsets, which need a
     # direction search, are then never explored)
     candidates.sort(key=lambda hc: -sum(1 for cs in hc[1] if cs.state == STICK))
-    # what every candidate shares: the state, its kinematics and the scale of the forces
-    y = np.concatenate((q, qd))
-    x = solver.input(t, q, qd)
-    kin = solver.ck.fn.raw(x, np.empty(solver.ck.size)) if solver.ck else None
-    scales = (sq, sv, 1.0 + max_abs(kernel.dynamics(x)["F"]))
     level = None
     fallback = None
     singular: list[Exception] = []
