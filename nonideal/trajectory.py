@@ -80,10 +80,8 @@ class Trajectory:
         qdd = np.array([m.qdd for m in motions]).reshape(N, n)
         rows = kernel.rows
         mult = {r.name: np.zeros(N) for r in rows}
-        ck = solver.ck
-        contacts = {name: {"normal": np.zeros(N), "friction": np.zeros((N, d)), "slip": np.zeros((N, d)),
-                           "gap": np.zeros(N), "mu_static": np.zeros(N), "mode": []}
-                    for name, d in zip(ck.names, ck.dims)} if ck else {}
+        names = solver.ck.names if solver.ck else []
+        records: list[list] = [[] for _ in names]  # per contact: (mode, N, F, U, gap, mu_s) per sample
         res_p = res_v = 0.0
         X = np.empty((N, len(solver.x)))
         X[:] = solver.x
@@ -101,11 +99,8 @@ class Trajectory:
                     res_p = max(res_p, float(np.abs(obs["pos"][k, pos]).max()))
                 if vel:
                     res_v = max(res_v, float(np.abs(obs["vel"][k, vel]).max()))
-            for c, name in enumerate(ck.names if ck else ()):
-                rec = contacts[name]
-                (label, rec["normal"][k], rec["friction"][k], rec["slip"][k], rec["gap"][k],
-                 rec["mu_static"][k]) = m.contact_record(c)
-                rec["mode"].append(label)
+            for c, rec in enumerate(records):
+                rec.append(m.contact_record(c))
         T, V = obs["T"], obs["V"]
         E = 0.5 * np.einsum("ki,kij,kj->k", qd, M, qd) - obs["T0"] + V
         works = Y[:, 2 * n:2 * n + 5] if Y.shape[1] > 2 * n else np.zeros((N, 5))
@@ -127,9 +122,14 @@ class Trajectory:
             energy_balance_relative=float(np.max(np.abs(balance)) / scale) if N else 0.0,
             samples=N,
         )
-        for rec in contacts.values():
-            rec["friction"] = rec["friction"].tolist()
-            rec["slip"] = rec["slip"].tolist()
+        contacts = {}
+        for name, d, rec in zip(names, solver.ck.dims if names else [], records):
+            label, normal, friction, slip, gap, mu_s = zip(*rec) if rec else ((),) * 6
+            contacts[name] = {"normal": np.array(normal, dtype=float),
+                              "friction": np.array(friction, dtype=float).reshape(N, d).tolist(),
+                              "slip": np.array(slip, dtype=float).reshape(N, d).tolist(),
+                              "gap": np.array(gap, dtype=float), "mu_static": np.array(mu_s, dtype=float),
+                              "mode": list(label)}
         return cls(kernel.model.name, tuple(kernel.model.coordinates), t, q, qd, qdd,
                    [s.mode.label() for s in samples], mult, energy, list(events), diag, contacts)
 
