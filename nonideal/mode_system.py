@@ -140,12 +140,15 @@ class ModeSystem:
     def assemble(self, solver, t: float, y: np.ndarray, mode: Mode, powers: bool = False):
         """``K`` (shape (s, s), Fortran order, friction columns included) and ``r`` at the state
         ``y = [q, q', ...]``; with *powers* also the power ``fcol . q'`` of each sliding
-        contact's friction column ``fcol`` per unit normal force."""
+        contact's friction column ``fcol`` per unit normal force.  Without rows ``K`` is ``M``,
+        a view of the solver's buffer (the factorization copies it)."""
         n = self.n
         x, z = solver.x, solver.z
         x[0] = t
         x[1:1 + 2 * n] = y[:2 * n]
         solver.kernel.dynamics.raw(x, solver.kz)
+        if not self.m:  # no rows: M q'' = F, read in place (M is symmetric: no transpose)
+            return z[self.src[0]:self.src[0] + n * n].reshape(n, n), z[self.rsrc], []
         if self.contact_rows:
             solver.ck.fn.raw(x, solver.cz)
         K = np.zeros(self.s * self.s)
