@@ -248,11 +248,15 @@ class ModeSolver:
     params : ndarray
     form : str
     independent : tuple of str, optional
+    specialize : bool
+        Lagrange I: use the compiled system of a mode once its structure is hot
+        (:class:`~nonideal.mode_system.ModeFunction`); ``False``: always the index path.
     """
 
     def __init__(self, kernel: Kernel, params: np.ndarray, form: str = "lagrange1",
-                 independent=None):
+                 independent=None, specialize: bool = True):
         self.kernel = kernel
+        self.specialize = specialize
         self.params = params
         self.form = form
         self.independent = independent

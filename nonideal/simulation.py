@@ -70,17 +70,22 @@ class Simulation:
         Independent coordinates for the reduced forms.
     detect_jam : bool
         Watch the effective normal compliance of sliding contacts (Painleve's paradox).
+    specialize : bool
+        Compile the saddle-point system of a mode with contacts once its structure has been
+        integrated :data:`~nonideal.mode_system.SPECIALIZE_CALLS` times (faster; it agrees
+        with the index path to rounding).  ``False`` keeps the index path, so that a run
+        gives bit-identical results whatever ran before it in the process.
     """
 
     def __init__(self, model: Model, form: str = "lagrange1",
                  parameters: Mapping[str, float] | None = None, rtol: float | None = None,
                  atol: float | None = None, method: str | None = None,
                  max_step: float | None = None, independent=None, max_events: int = 10_000,
-                 detect_jam: bool = True):
+                 detect_jam: bool = True, specialize: bool = True):
         self.model = model
         self.kernel = kernel_of(model)
         self.params = parameter_vector(model, parameters)
-        self.solver = ModeSolver(self.kernel, self.params, form, independent)
+        self.solver = ModeSolver(self.kernel, self.params, form, independent, specialize)
         sim = model.simulation
         self.rtol = rtol if rtol is not None else sim.rtol
         self.atol = atol if atol is not None else sim.atol
@@ -122,7 +127,7 @@ class Simulation:
             return fun
 
         # the compiled system, once this mode structure has been integrated long enough
-        function = system.specialized(self.kernel, mode)
+        function = system.specialized(self.kernel, mode) if solver.specialize else None
         x = function.inputs(solver, mode) if function else None
 
         def fun(t, y):
@@ -617,7 +622,7 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
         Formalism used to evaluate the accelerations.
     **options
         ``parameters``, ``rtol``, ``atol``, ``method``, ``max_step``, ``independent``,
-        ``initial``, ``detect_jam``.
+        ``initial``, ``detect_jam``, ``specialize``.
 
     Returns
     -------
@@ -631,7 +636,7 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
     [0.0, 1.0]
     """
     allowed = ("parameters", "rtol", "atol", "method", "max_step", "independent", "max_events",
-               "detect_jam", "initial", "stop_on")
+               "detect_jam", "specialize", "initial", "stop_on")
     unknown = [k for k in options if k not in allowed]
     if unknown:
         from .errors import did_you_mean

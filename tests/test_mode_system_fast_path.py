@@ -289,3 +289,17 @@ def test_simulation_with_compiled_modes_agrees_with_the_index_path(name, monkeyp
     assert np.max(np.abs(compiled.qd[-1] - index.qd[-1])) <= 1e-8 * (1 + np.max(np.abs(index.qd[-1])))
     assert compiled.diagnostics["energy_balance_relative"] < 1e-8
     mode_system._SYSTEMS.clear()
+
+
+def test_specialize_false_keeps_the_index_path_bit_for_bit(monkeypatch):
+    """Without specialization a run does not depend on what ran before it in the process."""
+    import nonideal.mode_system as mode_system
+
+    model = gallery.load("sphere-sliding-on-plane")
+    first = nonideal.simulate(model, specialize=False)
+    monkeypatch.setattr(mode_system, "SPECIALIZE_CALLS", 0)
+    nonideal.simulate(model)  # the modes it integrates get compiled
+    assert any(entry[1].function for entry in mode_system._SYSTEMS.values() if entry[0].model is model)
+    again = nonideal.simulate(model, specialize=False)
+    assert np.array_equal(first.t, again.t) and np.array_equal(first.qd, again.qd)
+    assert [e["t"] for e in first.events] == [e["t"] for e in again.events]
