@@ -34,7 +34,7 @@ import nonideal.trajectory as ntraj  # noqa: E402
 from nonideal.dynamics import dynamics_of  # noqa: E402
 from nonideal.formalisms import derive  # noqa: E402
 from nonideal.gallery import knife_chain, nlink_pendulum  # noqa: E402
-from nonideal.numeric import Kernel, kernel_of, solve_saddle  # noqa: E402
+from nonideal.numeric import Kernel, solve_saddle  # noqa: E402
 from nonideal.switching import select_mode  # noqa: E402
 
 

@@ -32,7 +32,7 @@ from scipy.linalg import lapack
 
 from .dynamics import ConstraintRow, Dynamics, dynamics_of
 from .eom import EquationsOfMotion
-from .errors import ModelError, SingularSystem, did_you_mean
+from .errors import ModelError, did_you_mean
 from .model import Model
 
 __all__ = ["Compiled", "Kernel", "FormSystem", "solve_saddle", "SingularMatrix", "kernel_of", "max_abs"]
