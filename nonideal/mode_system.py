@@ -1,4 +1,5 @@
-"""The motion in one mode, as the hybrid loop reads it: :class:`ModeSystem` and :class:`Motion`.
+"""The motion in one mode, as the hybrid loop reads it: :class:`ModeSystem`,
+:class:`ModeFunction` and :class:`Motion`.
 
 For Lagrange's equations of the first kind the motion in a mode is the saddle-point system
 
@@ -15,7 +16,10 @@ sliding contact (Painleve's watch, :class:`~nonideal.events.Jam`) then costs one
 triangular solve.  It does the same floating-point operations as the general path
 (:meth:`ModeSolver.assemble <nonideal.modes.ModeSolver.assemble>` +
 :func:`~nonideal.numeric.solve_saddle`), which stays the reference and handles singular
-systems (minimum-norm contact forces, named errors).
+systems (minimum-norm contact forces, named errors).  Once a mode structure with contacts
+has been integrated :data:`SPECIALIZE_CALLS` times, :class:`ModeFunction` compiles its whole
+system (friction columns, slip direction and powers included): the NumPy calls around the
+compiled code, not the compiled code, were the cost of an evaluation.
 
 A :class:`Motion` is the motion at one state of one mode, computed on first use: an event
 that looks only at the slip or the gap (slip stop, touch) costs one contact-kernel call, no
@@ -45,8 +49,9 @@ _dgesv, _dgetrs, _dposv = lapack.dgesv, lapack.dgetrs, lapack.dposv
 
 
 class ModeSystem:
-    """The rows of one mode structure and, for Lagrange I, their assembly by index (immutable;
-    shared by every :class:`~nonideal.modes.ModeSolver` of the model: :func:`system_of`).
+    """The rows of one mode structure and, for Lagrange I, their assembly by index (shared by
+    every :class:`~nonideal.modes.ModeSolver` of the model: :func:`system_of`; its only state
+    is the count of right-hand-side evaluations and the compiled :class:`ModeFunction`).
 
     Parameters
     ----------
