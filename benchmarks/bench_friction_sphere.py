@@ -22,10 +22,14 @@ Measured, side by side in one process:
 
 1. **ours** -- ``nonideal.simulate(model, t_end=T, initial=...)`` (exact Coulomb friction,
    slip-stop event located on the dense output): error of the event time and of the final
-   velocity, angular velocity and position; wall time (median of repeated runs with the
-   compiled kernel cached; the first call -- model parsing and compilation -- separately;
-   a cold process with the import separately too).  Also a sweep of the tolerances, a
-   cProfile of the warm run, and the prototype fast path of ``proto_friction_fastpath.py``.
+   velocity, angular velocity and position; wall time of a *warm* run (the model's kernels
+   compiled, and the saddle-point systems of the two modes it integrates compiled too, which
+   the library does once a mode has been integrated ``SPECIALIZE_CALLS`` times: the script
+   runs ``WARMUP`` runs first), and of the *index path* (``specialize=False``: what a warm
+   run costs before that, and what a user who asks for run-to-run bit reproducibility gets);
+   the first call -- model parsing and compilation -- separately, the compilation of the
+   two mode systems separately, a cold process with the import separately too.  Also a
+   sweep of the tolerances, a cProfile of the warm run and its wall time by stage.
 2. **MuJoCo** (if importable) -- the same sphere in MJCF (sphere geom, free joint, plane,
    sliding friction mu only, condim 3) for both friction cones, several timesteps and
    contact settings (default; impratio = 10; stiff: solref = (2 dt, 1), solimp =
@@ -83,6 +87,7 @@ CASES = {
 THRESHOLD = 1e-3          # "threshold" estimator: |U| < THRESHOLD |U0|
 FIT_WINDOW = (0.05, 0.5)  # "extrapolated" estimator: fit |U| in this window of |U0|
 GOAL = 1e-9               # the issue's accuracy goal (relative)
+WARMUP = 20               # warm runs before timing: past SPECIALIZE_CALLS for both modes
 
 
 # ============================================================================ closed form
@@ -228,7 +233,8 @@ def clear_library_caches() -> None:
 
     clear_cache()
     for mod, name in (("nonideal.dynamics", "_CACHE"), ("nonideal.numeric", "_KERNELS"),
-                      ("nonideal.contact_kernel", "_CACHE")):
+                      ("nonideal.contact_kernel", "_CACHE"), ("nonideal.mode_system", "_SYSTEMS"),
+                      ("nonideal.simulation", "_INITIAL"), ("nonideal.switching", "_VALIDATED")):
         cache = getattr(sys.modules.get(mod), name, None)
         if isinstance(cache, dict):
             cache.clear()
@@ -270,13 +276,20 @@ def bench_ours(repeat: int, quick: bool) -> dict:
     k = int(np.argsort([f[3] for f in firsts])[len(firsts) // 2])
     out["first_call"] = {"load_model": firsts[k][0], "compile": firsts[k][1], "first_run": firsts[k][2],
                          "total": firsts[k][3], "all_totals": [f[3] for f in firsts]}
+    out["specialize"] = specialize_time(model)
     for key, case in CASES.items():
         exact = closed_form(case["v0"], case["w0"])
         init = initial_of(case)
-        nonideal.simulate(model, t_end=T_END, initial=init)  # warm
+        for _ in range(WARMUP):  # the kernels compiled, then the two mode systems
+            nonideal.simulate(model, t_end=T_END, initial=init)
         med, best, times, traj = median_time(lambda: nonideal.simulate(model, t_end=T_END, initial=init), repeat)
         res = ours_measure(traj, exact)
         res.update(wall_median=med, wall_min=best, walls=times)
+        med, best, _, ref = median_time(lambda: nonideal.simulate(model, t_end=T_END, initial=init,
+                                                                 specialize=False), repeat)
+        res.update(index_wall_median=med, index_wall_min=best,
+                   index_agreement=float(np.max(np.abs(ref.qd[-1] - traj.qd[-1]))),
+                   index_event_diff=abs(ours_measure(ref, exact)["t_event"] - res["t_event"]))
         out["cases"][key] = res
     # tolerance sweep (case b)
     case = CASES["b"]
@@ -291,6 +304,23 @@ def bench_ours(repeat: int, quick: bool) -> dict:
         out["tolerances"].append({"rtol": rtol, "atol": atol, "wall_median": med, "wall_min": best,
                                   "errors": res["errors"], "samples": res["samples"]})
     out["model"] = model
+    return out
+
+
+def specialize_time(model) -> dict:
+    """Compilation of the saddle-point systems of the two modes a run integrates (sliding with
+    two slip components, rolling): what the library pays once per model when a mode is hot."""
+    from nonideal.mode_system import ModeFunction, system_of
+    from nonideal.modes import ContactState, Mode
+    from nonideal.numeric import kernel_of
+
+    kernel = kernel_of(model)
+    out = {}
+    for label, cs in (("sliding", ContactState("slide", (0.8, -0.6))), ("rolling", ContactState("stick"))):
+        mode = Mode(frozenset(), (("plane", cs),))
+        t0 = time.perf_counter()
+        ModeFunction.of(kernel, system_of(kernel, mode), mode)
+        out[label] = time.perf_counter() - t0
     return out
 
 
@@ -317,7 +347,8 @@ def profile_ours(model, case: dict, runs: int = 30) -> dict:
     import nonideal
 
     init = initial_of(case)
-    nonideal.simulate(model, t_end=T_END, initial=init)
+    for _ in range(WARMUP):
+        nonideal.simulate(model, t_end=T_END, initial=init)
     pr = cProfile.Profile()
     pr.enable()
     for _ in range(runs):
@@ -335,63 +366,81 @@ def profile_ours(model, case: dict, runs: int = 30) -> dict:
     return {"runs": runs, "total_per_run_profiled": total, "top_cumulative": cum, "top_own": own}
 
 
-STAGES = ("right-hand side", "event context", "mode selection", "projection", "initial state",
+STAGES = ("right-hand side", "SciPy DOP853 steps (without the RHS)", "SciPy: solver set-up",
+          "SciPy: dense output", "mode selection", "projection", "initial state and checks",
           "trajectory assembly")
 
 
 def breakdown(makers: dict, case: dict, runs: int = 30) -> dict:
     """Where the wall time of a warm run goes, by stage (wall clock, no profiler): the
-    library's methods are wrapped with timers for the duration of the measurement only.
-    The simulations of *makers* (name -> factory) run alternately, one run each per round."""
+    library's and SciPy's functions are wrapped with timers for the duration of the
+    measurement only; each stage's time is its own (nested timed stages subtracted: the
+    SciPy stages exclude the right-hand side they call).  The simulations of *makers* (name
+    -> factory) run alternately, one run each per round, after WARMUP runs; the stage times
+    are medians over the fastest half of the rounds (the shares of a quiet run)."""
     import nonideal.simulation as simmod
     from nonideal.trajectory import Trajectory
+    from scipy.integrate import DOP853
 
     init = initial_of(case)
-    acc = {name: dict.fromkeys(STAGES, 0.0) for name in makers}
-    calls = {name: dict.fromkeys(STAGES, 0) for name in makers}
-    totals = dict.fromkeys(makers, 0.0)
-    current = [None]
+    acc = dict.fromkeys(STAGES, 0.0)
+    calls = dict.fromkeys(STAGES, 0)
+    stack: list[float] = []
 
     def timed(stage, fn):
         def wrapper(*a, **k):
             t0 = time.perf_counter()
+            stack.append(0.0)
             try:
                 return fn(*a, **k)
             finally:
-                acc[current[0]][stage] += time.perf_counter() - t0
-                calls[current[0]][stage] += 1
+                dt = time.perf_counter() - t0
+                acc[stage] += dt - stack.pop()
+                calls[stage] += 1
+                if stack:
+                    stack[-1] += dt
         return wrapper
 
-    saved_select = simmod.select_mode
-    original_from = Trajectory.__dict__["from_samples"]
-    simmod.select_mode = timed("mode selection", saved_select)
-    Trajectory.from_samples = classmethod(timed("trajectory assembly", original_from.__func__))
+    saved = [(simmod, "select_mode"), (simmod, "validate_contacts"), (Trajectory, "from_samples"),
+             (DOP853, "step"), (DOP853, "__init__"), (DOP853, "dense_output")]
+    saved = [(owner, name, owner.__dict__.get(name)) for owner, name in saved]  # None: inherited
+    simmod.select_mode = timed("mode selection", simmod.select_mode)
+    simmod.validate_contacts = timed("initial state and checks", simmod.validate_contacts)
+    Trajectory.from_samples = classmethod(timed("trajectory assembly", Trajectory.__dict__["from_samples"].__func__))
+    DOP853.step = timed("SciPy DOP853 steps (without the RHS)", DOP853.step)
+    DOP853.__init__ = timed("SciPy: solver set-up", DOP853.__init__)
+    DOP853.dense_output = timed("SciPy: dense output", DOP853.dense_output)
+    samples = {name: [] for name in makers}
     try:
-        for k in range(runs + 1):
+        for k in range(runs + WARMUP):
             for name, make in makers.items():
-                current[0] = name
+                for stage in STAGES:
+                    acc[stage], calls[stage] = 0.0, 0
                 sim = make()
-                rhs, context = sim.rhs, sim.context
+                rhs = sim.rhs
                 sim.rhs = lambda mode, rhs=rhs: timed("right-hand side", rhs(mode))
-                sim.context = timed("event context", context)
                 sim._project = timed("projection", sim._project)
-                sim.initial_state = timed("initial state", sim.initial_state)
+                sim.initial_state = timed("initial state and checks", sim.initial_state)
                 t0 = time.perf_counter()
                 sim.run(t_end=T_END, initial=init)
-                if k == 0:  # warm-up round, not counted
-                    acc[name] = dict.fromkeys(STAGES, 0.0)
-                    calls[name] = dict.fromkeys(STAGES, 0)
-                else:
-                    totals[name] += time.perf_counter() - t0
+                total = time.perf_counter() - t0
+                if k >= WARMUP:
+                    samples[name].append((total, dict(acc), dict(calls)))
     finally:
-        simmod.select_mode = saved_select
-        Trajectory.from_samples = original_from
+        for owner, name, f in saved:
+            if f is None:
+                delattr(owner, name)
+            else:
+                setattr(owner, name, f)
     out = {}
-    for name in makers:
-        parts = {st: {"time_per_run": acc[name][st] / runs, "calls_per_run": calls[name][st] / runs} for st in STAGES}
-        rest = totals[name] / runs - sum(p["time_per_run"] for p in parts.values())
-        parts["integrator, events, loop (rest)"] = {"time_per_run": rest, "calls_per_run": None}
-        out[name] = {"total_per_run": totals[name] / runs, "parts": parts}
+    for name, runs_ in samples.items():
+        fast = sorted(runs_, key=lambda r: r[0])[:max(3, len(runs_) // 2)]
+        total = statistics.median(r[0] for r in fast)
+        parts = {st: {"time_per_run": statistics.median(r[1][st] for r in fast),
+                      "calls_per_run": fast[0][2][st]} for st in STAGES}
+        rest = total - sum(p["time_per_run"] for p in parts.values())
+        parts["events, motions, the hybrid loop (rest)"] = {"time_per_run": rest, "calls_per_run": None}
+        out[name] = {"total_per_run": total, "parts": parts}
     return out
 
 
@@ -620,52 +669,6 @@ def bench_mujoco(mujoco, dts, cones, settings, repeat: int, loop_dts) -> list[di
     return out
 
 
-# ============================================================================ prototype
-
-
-def bench_prototype(model, rounds: int) -> dict | None:
-    """The fast path of proto_friction_fastpath.py (subclasses of the library's Simulation
-    with the proposed changes), against the library on the same model: wall times measured
-    round-robin (library, F1, F1+F2, F1+F2+F3 in turn, medians over the rounds) and the
-    agreement of the results (event times, final state)."""
-    try:
-        sys.path.insert(0, str(HERE))
-        import proto_friction_fastpath as proto
-    except ImportError:
-        return None
-    import nonideal
-
-    out = {"cases": {}, "rounds": rounds, "descriptions": proto.DESCRIPTIONS}
-    for key, case in CASES.items():
-        init = initial_of(case)
-        ref = nonideal.simulate(model, t_end=T_END, initial=init)
-        runs = [("library", lambda: nonideal.simulate(model, t_end=T_END, initial=init))]
-        runs += [(name, lambda fn=fn: fn(T_END, init)) for name, fn in proto.variants(model)]
-        results = {name: fn() for name, fn in runs}
-        times = {name: [] for name, _ in runs}
-        gc.collect()
-        for _ in range(rounds):
-            for name, fn in runs:
-                t0 = time.perf_counter()
-                fn()
-                times[name].append(time.perf_counter() - t0)
-        base = statistics.median(times["library"])
-        rows = []
-        for name, _ in runs[1:]:
-            traj = results[name]
-            ev_ref = [e["t"] for e in ref.events]
-            ev = [e["t"] for e in traj.events]
-            med = statistics.median(times[name])
-            rows.append({"variant": name, "wall_median": med, "wall_min": min(times[name]), "speedup": base / med,
-                         "speedup_min": min(times["library"]) / min(times[name]),
-                         "event_time_diff": max((abs(a - b) for a, b in zip(ev, ev_ref)), default=0.0)
-                         if len(ev) == len(ev_ref) else None,
-                         "final_state_diff": float(np.max(np.abs(traj.qd[-1] - ref.qd[-1])))})
-        out["cases"][key] = {"library_wall_median": base, "library_wall_min": min(times["library"]),
-                             "variants": rows}
-    return out
-
-
 # ============================================================================ report
 
 
@@ -793,17 +796,11 @@ def main(argv=None) -> int:
 
     # ---- head to head (round robin) and summary
     t0 = time.perf_counter()
-    try:
-        sys.path.insert(0, str(HERE))
-        import proto_friction_fastpath  # noqa: F401
-
-        with_proto = True
-    except Exception:
-        with_proto = False
     grid = {(r["cone"], r["dt"], r["settings"]) for r in result["mujoco"].get("runs", [])}
     configs = [c for c in H2H_MUJOCO if c in grid]
-    result["head_to_head"] = {key: head_to_head(model, mj if mj_ok else None, key, 7 if quick else 25,
-                                                with_proto, configs) for key in CASES}
+    result["h2h_rounds"] = 5 if quick else 25
+    result["head_to_head"] = {key: head_to_head(model, mj if mj_ok else None, key, result["h2h_rounds"],
+                                                configs) for key in CASES}
     print(f"\n(head to head, round robin: {time.perf_counter() - t0:.1f} s)")
     summary = summarize(result)
     result["summary"] = summary
@@ -813,44 +810,23 @@ def main(argv=None) -> int:
     for line in summary["goal"]:
         print("* " + line)
 
-    # ---- profile and prototype
+    # ---- profile and stages
     t0 = time.perf_counter()
     result["profile"] = profile_ours(model, CASES["b"], runs=10 if quick else 30)
     from nonideal.simulation import Simulation
 
-    makers = {"library": lambda: Simulation(model)}
-    try:
-        proto = bench_prototype(model, 9 if quick else 31)
-        if proto:
-            import proto_friction_fastpath as pf
-
-            makers["prototype F1+F2+F3"] = lambda: pf.FastSimulation(model)
-    except Exception as exc:  # the library is being edited: report, do not fail the benchmark
-        proto = {"error": repr(exc)}
-    result["breakdown"] = breakdown(makers, CASES["b"], 10 if quick else 30)
-    result["prototype"] = proto
+    makers = {"warm": lambda: Simulation(model), "index path": lambda: Simulation(model, specialize=False)}
+    result["breakdown"] = breakdown(makers, CASES["b"], 10 if quick else 40)
     print(f"\n## profile of ours, case (b) ({time.perf_counter() - t0:.1f} s)")
     print(table(["function", "calls/run", "own/run", "cum/run"],
                 [[r["function"], f"{r['calls_per_run']:.0f}", fmt_t(r["tottime_per_run"]), fmt_t(r["cumtime_per_run"])]
                  for r in result["profile"]["top_cumulative"][:18]]))
     bd = result["breakdown"]
-    names = list(bd["library"]["parts"])
-    print("\nwall time of a warm run by stage, case (b) (timers, no profiler):")
+    names = list(bd["warm"]["parts"])
+    print("\nwall time of a run by stage, case (b) (timers, no profiler):")
     print(table(["stage"] + [f"{k} ({fmt_t(v['total_per_run'])})" for k, v in bd.items()] + ["calls/run"],
                 [[p] + [fmt_t(v["parts"][p]["time_per_run"]) for v in bd.values()]
-                 + [fmt_r(bd["library"]["parts"][p]["calls_per_run"])] for p in names]))
-    if proto and "error" in proto:
-        print(f"\nprototype failed against the current library: {proto['error']}")
-    elif proto:
-        print("\nprototype fast path (benchmarks/proto_friction_fastpath.py), cumulative variants:")
-        rows = []
-        for key, c in proto["cases"].items():
-            for r in c["variants"]:
-                rows.append([key, r["variant"], fmt_t(c["library_wall_median"]), fmt_t(r["wall_median"]),
-                             f"{r['speedup']:.2f}x", f"{r['speedup_min']:.2f}x", fmt_e(r["event_time_diff"]),
-                             fmt_e(r["final_state_diff"])])
-        print(table(["case", "variant", "library", "prototype", "speed-up (median)", "speed-up (min)",
-                     "event t diff", "final state diff"], rows))
+                 + [fmt_r(bd["warm"]["parts"][p]["calls_per_run"])] for p in names]))
 
     info["loadavg_end"] = list(os.getloadavg())
     info["wall_total"] = time.perf_counter() - t_start
@@ -866,21 +842,24 @@ H2H_MUJOCO = (("elliptic", 2e-3, "default"), ("elliptic", 1e-3, "default"), ("el
 H2H_EPS = 1e-4
 
 
-def head_to_head(model, mj, key: str, rounds: int, with_proto: bool, mj_configs) -> dict:
-    """Wall times measured round-robin (one run of each contestant per round, medians over
-    the rounds), so that the load of a shared machine hits every contestant alike; the
-    ratios of the summary come from here."""
+H2H_BLOCK = 3  # timed runs of a contestant per round, after one untimed run
+
+
+def head_to_head(model, mj, key: str, rounds: int, mj_configs) -> dict:
+    """Wall times measured round-robin, so that the load of a shared machine hits every
+    contestant alike; the ratios of the summary come from here.  Every contestant runs
+    WARMUP times first; then each round runs each contestant once untimed and H2H_BLOCK times
+    timed (medians and minima over all timed runs): the first run after another contestant
+    pays for the caches the other one took (measured: ~0.4 ms of a 2.5 ms run of ours after
+    a MuJoCo rollout) -- a user runs one simulator at a time."""
     import nonideal
     from nonideal.realizability import regularized
 
     case = CASES[key]
     init = initial_of(case)
-    contestants = [("ours", {"kind": "ours"}, lambda: nonideal.simulate(model, t_end=T_END, initial=init))]
-    if with_proto:
-        import proto_friction_fastpath as pf
-
-        contestants.append(("ours + prototype F1-F3", {"kind": "ours"},
-                            lambda: pf.FastSimulation(model).run(t_end=T_END, initial=init)))
+    contestants = [("ours", {"kind": "ours"}, lambda: nonideal.simulate(model, t_end=T_END, initial=init)),
+                   ("ours, index path (specialize=False)", {"kind": "ours"},
+                    lambda: nonideal.simulate(model, t_end=T_END, initial=init, specialize=False))]
     if mj is not None:
         for cone, dt, sname in mj_configs:
             sph = MujocoSphere(mj, dt, cone, MJ_SETTINGS[sname](dt))
@@ -900,13 +879,16 @@ def head_to_head(model, mj, key: str, rounds: int, with_proto: bool, mj_configs)
                         lambda: solve_ivp(rhs, (0.0, T_END), y0, method="LSODA", rtol=1e-8, atol=1e-10)))
     times = {name: [] for name, _, _ in contestants}
     for _, _, fn in contestants:
-        fn()
+        for _ in range(WARMUP):
+            fn()
     gc.collect()
     for _ in range(rounds):
         for name, _, fn in contestants:
-            t0 = time.perf_counter()
             fn()
-            times[name].append(time.perf_counter() - t0)
+            for _ in range(H2H_BLOCK):
+                t0 = time.perf_counter()
+                fn()
+                times[name].append(time.perf_counter() - t0)
     return {name: {"config": cfg, "wall_median": statistics.median(times[name]), "wall_min": min(times[name]),
                    "walls": times[name]} for name, cfg, _ in contestants}
 
@@ -995,18 +977,25 @@ def render(result: dict) -> str:
            f"{', library files modified in the working tree' if m.get('library_modified') else ''}), "
            f"NumPy {v['numpy']}, SciPy {v['scipy']}, SymEngine {v['symengine']} (LLVM: {m['symengine_llvm']}), "
            f"MuJoCo {v['mujoco'] or 'skipped'}", ""]
-    out.append("**Head to head** (wall: medians of round-robin runs, one run of each per round; "
-               "(*) = the most accurate run of the MuJoCo sweep, its own median):\n")
+    out.append(f"**Head to head** (wall: round robin, {result.get('h2h_rounds', '?')} rounds, each contestant "
+               f"once untimed then {H2H_BLOCK} times timed per round, after {WARMUP} warm-up runs; median and "
+               "minimum over the timed runs; (*) = the most accurate run of the MuJoCo sweep, its own median):\n")
     rows = [r for r in result["summary"]["rows"]]
     out.append(table(["case", "run", "wall (median)", "wall (min)", "err t* (extrap.)", "err t* (thresh.)",
                       "err v(T)", "err r(T)", "ours/peer (median)", "ours/peer (min)"], rows))
     out.append("")
     o = result["ours"]
     fc = o["first_call"]
+    sp = o.get("specialize", {})
     out.append(f"**Ours**: first call from a fresh model (caches cleared): parse {fmt_t(fc['load_model'])}, "
                f"compile {fmt_t(fc['compile'])}, first run {fmt_t(fc['first_run'])}, total {fmt_t(fc['total'])}; "
-               f"cold process (`import nonideal` + all) {fmt_t(o.get('cold_process'))}. "
-               "Tolerance sweep, case (b):\n")
+               f"cold process (`import nonideal` + all) {fmt_t(o.get('cold_process'))}; compiling the two "
+               f"mode systems once they are hot: sliding {fmt_t(sp.get('sliding'))}, rolling "
+               f"{fmt_t(sp.get('rolling'))}. Warm runs (own medians, not interleaved): "
+               + "; ".join(f"({k}) {fmt_t(c['wall_median'])}, index path {fmt_t(c['index_wall_median'])}, "
+                           f"the two agree to {c['index_agreement']:.0e} (final velocity), "
+                           f"{c['index_event_diff']:.0e} (event time)" for k, c in o["cases"].items())
+               + ". Tolerance sweep, case (b):\n")
     out.append(table(["rtol", "atol", "err t*", "err v(T)", "err r(T)", "wall (median)"],
                      [[f"{r['rtol']:g}", f"{r['atol']:g}", fmt_e(r["errors"]["t_star"]), fmt_e(r["errors"]["velocity"]),
                        fmt_e(r["errors"]["position"]), fmt_t(r["wall_median"])] for r in o["tolerances"]]))
@@ -1050,23 +1039,14 @@ def render(result: dict) -> str:
     out.append("")
     bd = result.get("breakdown")
     if bd:
-        names = list(bd["library"]["parts"])
-        out.append("**Where a warm run of ours goes**, case (b) (timers around the stages, no profiler):\n")
+        first = next(iter(bd.values()))
+        names = list(first["parts"])
+        out.append("**Where a run of ours goes**, case (b) (timers around the stages, no profiler; own "
+                   "times, medians over the fastest half of the interleaved rounds):\n")
         out.append(table(["stage"] + [f"{k} ({fmt_t(x['total_per_run'])})" for k, x in bd.items()] + ["calls/run"],
                          [[p] + [fmt_t(x["parts"][p]["time_per_run"]) for x in bd.values()]
-                          + [fmt_r(bd["library"]["parts"][p]["calls_per_run"])] for p in names]))
+                          + [fmt_r(first["parts"][p]["calls_per_run"])] for p in names]))
         out.append("")
-    pr = result.get("prototype")
-    if pr and "cases" in pr:
-        out.append(f"**Prototype** `proto_friction_fastpath.py` vs the library (round robin, {pr['rounds']} rounds):\n")
-        rows = []
-        for key, c in pr["cases"].items():
-            for r in c["variants"]:
-                rows.append([key, r["variant"], fmt_t(c["library_wall_median"]), fmt_t(r["wall_median"]),
-                             f"{r['speedup']:.2f}x", f"{r['speedup_min']:.2f}x", fmt_e(r["event_time_diff"]),
-                             fmt_e(r["final_state_diff"])])
-        out.append(table(["case", "variant", "library", "prototype", "speed-up (median)", "speed-up (min)",
-                          "event t diff", "final state diff"], rows))
     return "\n".join(out).rstrip() + "\n"
 
 

@@ -34,7 +34,7 @@ import nonideal.trajectory as ntraj  # noqa: E402
 from nonideal.dynamics import dynamics_of  # noqa: E402
 from nonideal.formalisms import derive  # noqa: E402
 from nonideal.gallery import knife_chain, nlink_pendulum  # noqa: E402
-from nonideal.numeric import Kernel, kernel_of, solve_saddle  # noqa: E402
+from nonideal.numeric import Kernel, solve_saddle  # noqa: E402
 from nonideal.switching import select_mode  # noqa: E402
 
 
@@ -145,26 +145,29 @@ def rhs_pieces(label, model, form):
     x = S.input(0.0, q0, qd0)
     out = K.dynamics(x)
     lay = S.layout(mode)
+    system = S.system(mode)
     pieces = {
         "Simulation.rhs(mode)(t, y)": lambda: fun(0.0, y),
-        "ModeSolver.accelerations": lambda: S.accelerations(0.0, q0, qd0, mode),
-        "ModeSolver.input (copy t, q, q' into x)": lambda: S.input(0.0, q0, qd0),
+        "general path: ModeSolver.accelerations": lambda: S.accelerations(0.0, q0, qd0, mode),
         "Compiled.raw (kernel M, F, G, gamma, B)": lambda: K.dynamics.raw(x),
         "Compiled.__call__ (raw + dict of views)": lambda: K.dynamics(x),
-        "mode.structure + layout lookup": lambda: S.layout(mode),
     }
+    if form == "lagrange1":
+        Ks, rs, _ = system.assemble(S, 0.0, y, mode)
+        pieces["ModeSystem.assemble (kernel call + gather by index)"] = lambda: system.assemble(S, 0.0, y, mode)
+        pieces["ModeSystem.factor (LAPACK, with a copy of K)"] = \
+            lambda: system.factor(np.array(Ks, order="F"), np.array(rs))
     if lay:
         Gm, gm, Bm = S.assemble(mode, lay, out, None)
-        pieces["ModeSolver.assemble (Python loop over rows)"] = lambda: S.assemble(mode, lay, out, None)
-        pieces["solve_saddle(M, F, B, G, gamma)"] = lambda: solve_saddle(out["M"], out["F"], Bm, Gm, gm)
+        pieces["general path: ModeSolver.assemble (loop over rows)"] = lambda: S.assemble(mode, lay, out, None)
+        pieces["general path: solve_saddle(M, F, B, G, gamma)"] = lambda: solve_saddle(out["M"], out["F"], Bm, Gm, gm)
         if form != "lagrange1":
             fs = S._current_form(mode, Gm, lay)
-            pieces["ModeSolver._current_form (2 SVDs per call)"] = lambda: S._current_form(mode, Gm, lay)
+            pieces["ModeSolver._current_form (partition check)"] = lambda: S._current_form(mode, Gm, lay)
             pieces["FormSystem.solve (compiled form + solves)"] = lambda: fs.solve(x)
-    else:
-        pieces["solve_saddle(M, F)"] = lambda: solve_saddle(out["M"], out["F"])
     res = {k: C.per_call(v, target=0.1, repeat=3) for k, v in pieces.items()}
-    # prototypes (outside the library) -------------------------------------------------
+    # floors: bare closures around the same kernel (what a right-hand side costs without the
+    # library's bookkeeping) -------------------------------------------------------------
     proto = {}
     n = K.n
     raw, buf = K.dynamics.fn, K.dynamics.out
@@ -183,7 +186,7 @@ def rhs_pieces(label, model, form):
             dy[:n] = yy[n:2 * n]
             dy[n:2 * n] = dposv(Mv, Fv)[1]
             return dy
-        proto["mode-specialized closure (lagrange1, no rows)"] = C.per_call(lambda: fast(0.0, y), 0.1, 3)
+        proto["floor: bare closure, kernel + dposv (lagrange1, no rows)"] = C.per_call(lambda: fast(0.0, y), 0.1, 3)
         proto["  its max |difference| to Simulation.rhs"] = float(np.max(np.abs(fast(0.0, y) - fun(0.0, y))))
     elif lay and all(r.kind == "constraint" for r in lay):
         idx = np.array([r.index for r in lay])
@@ -191,8 +194,6 @@ def rhs_pieces(label, model, form):
         sg, _ = K.dynamics.slices["gamma"]
         sB, shB = K.dynamics.slices["B"]
         Gall, gall, Ball = buf[sG].reshape(shG), buf[sg], buf[sB].reshape(shB)
-        pieces_fancy = lambda: (Gall[idx], gall[idx], Ball[:, idx])  # noqa: E731
-        proto["assemble by fancy indexing (all rows are constraints)"] = C.per_call(pieces_fancy, 0.1, 3)
         m = len(idx)
         s = n + m
 
@@ -216,7 +217,7 @@ def rhs_pieces(label, model, form):
             dy[2 * n:] = 0.0
             dy[2 * n + 1] = (Mv @ qdd - Fv) @ yy[n:2 * n]
             return dy
-        proto["mode-specialized closure (lagrange1, constraint rows, work integral kept)"] = \
+        proto["floor: bare closure, kernel + dgesv (constraint rows, work integral kept)"] = \
             C.per_call(lambda: fast(0.0, y), 0.1, 3)
         proto["  its max |difference| to Simulation.rhs"] = float(np.max(np.abs(fast(0.0, y) - fun(0.0, y))))
     return {"system": label, "form": form, "pieces": res, "prototypes": proto}
@@ -232,14 +233,13 @@ def simulate_path(label, model, t_end, form="lagrange1"):
     tr = nsim.simulate(model, **opts)
     total = time.perf_counter() - t0
     with Timers() as tm:
-        tm.wrap(nmodel.Model, "numeric_initial", "Model.numeric_initial (SymPy subs per value)")
+        tm.wrap(nsim.Simulation, "initial_state", "Simulation.initial_state (memoized)")
         tm.wrap(nsim.Simulation, "__init__", "Simulation.__init__ (ModeSolver, parameters)")
-        tm.wrap(nsim.Simulation, "context", "per step: context (ModeSolver.solve + observables)")
-        tm.wrap(nsim.Simulation, "_residuals", "per step: constraint residuals")
+        tm.wrap(nsim.Simulation, "_residuals", "per step: constraint residuals (observables)")
         tm.wrap(nsim.Simulation, "_project", "projections (start and drift)")
         tm.wrap(nsim, "select_mode", "select_mode (initial mode)")
         tm.wrap(nsim, "validate_contacts", "validate_contacts")
-        tm.wrap(ntraj.Trajectory, "from_samples", "Trajectory.from_samples (energies per sample)")
+        tm.wrap(ntraj.Trajectory, "from_samples", "Trajectory.from_samples (one batch evaluation)")
         rhs_label = "right-hand side calls of the integrator"
         original_rhs = nsim.Simulation.rhs
 
@@ -274,13 +274,14 @@ def simulate_path(label, model, t_end, form="lagrange1"):
     mode = select_mode(sim.solver, model.t0, q0, qd0)
     fun = sim.rhs(mode)
     y0 = np.concatenate((q0, qd0, np.zeros(nsim.N_WORK if sim.track else 0)))
+    atol = sim._work_tolerances() if sim.track else sim.atol  # as the simulation integrates
     tb = time.perf_counter()
-    sol = solve_ivp(fun, (model.t0, t_end), y0, method="DOP853", rtol=1e-8, atol=1e-10)
+    sol = solve_ivp(fun, (model.t0, t_end), y0, method="DOP853", rtol=1e-8, atol=atol)
     bare = time.perf_counter() - tb
     out = {"system": label, "form": form, "simulate_warm": total, "steps": steps, "breakdown": items,
            "bare_solve_ivp_same_rhs": bare, "bare_steps": len(sol.t) - 1, "bare_nfev": int(sol.nfev)}
     if sim.track:
-        # prototype: work integrals out of the error control (integrated separately)
+        # the same without the work integrals in the state (the steps of the motion alone)
         n = sim.n
 
         def mech(t, yy):

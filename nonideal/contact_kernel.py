@@ -4,6 +4,8 @@ For every contact ``c`` (in model order) the callable returns ``gap[c]``, ``gap_
 ``Gn[c]`` (``dg/dq``), ``gamma_n[c]`` (``g'' = Gn q'' + gamma_n``), ``mu[c]``, ``mu_s[c]``;
 and for every slip component ``r`` (contacts' components concatenated; ``offsets[c]`` is the
 first of contact ``c``) ``U[r]``, ``W[r]`` (``dU/dq'``), ``gamma_U[r]`` (``U' = W q'' + gamma_U``).
+``at[name]`` is where each output starts in the flat output array (``W`` row-major, shape
+``(components, n_q)``), for the index-based fast path of :mod:`nonideal.mode_system`.
 """
 
 from __future__ import annotations
@@ -30,6 +32,8 @@ class ContactKernel:
         symbols = [dyn.t] + dyn.q + dyn.qd + dyn.params
         if not self.data:
             self.fn = None
+            self.size = 0
+            self.at = {}
             return
         outputs = {
             "gap": [c.gap for c in self.data],
@@ -43,6 +47,8 @@ class ContactKernel:
             "gamma_U": [g for c in self.data for g in c.gamma_U],
         }
         self.fn = Compiled(symbols, outputs)
+        self.size = self.fn.size
+        self.at = {name: sl.start for name, (sl, _) in self.fn.slices.items()}
 
     def __bool__(self) -> bool:
         return bool(self.data)

@@ -1,9 +1,11 @@
 """Events of the hybrid simulation, as objects.
 
-An event has a scalar ``value(ctx)`` whose sign change (from positive to non-positive) marks
-the switch, a ``kind`` and the name of the constraint or contact it concerns.  The driver
-locates the root on the integrator's dense output (Brent's method) and then asks the mode
-selection what happens next.  Nothing is patched onto functions.
+An event has a scalar ``value(motion)`` whose sign change (from positive to non-positive) marks
+the switch, a ``kind`` and the name of the constraint or contact it concerns.  It reads the
+:class:`~nonideal.mode_system.Motion` at a state, which computes only what is asked: a slip
+stop or a touch needs the kinematics, not the accelerations.  The driver locates the root on
+the integrator's dense output (Brent's method) and then asks the mode selection what happens
+next.  Nothing is patched onto functions.
 
 ======================  ====================================  =============================
 event                   value                                 in mode
@@ -18,29 +20,16 @@ event                   value                                 in mode
                                                               slip direction at step start)
 :class:`Jam`            effective normal compliance ``b``     contact sliding (Painleve)
 ======================  ====================================  =============================
+
+``row`` is the kernel row of a constraint event and the index of the contact of a contact event.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
-import numpy as np
-
-__all__ = ["Event", "Release", "Touch", "ContactTouch", "Lift", "SlipStart", "SlipStop", "Jam",
-           "EventContext"]
-
-
-@dataclass
-class EventContext:
-    """What an event may look at: the state, the motion in the current mode, observables."""
-
-    t: float
-    q: object
-    qd: object
-    solution: object
-    observables: dict
-    solver: object = None
-    mode: object = None
+__all__ = ["Event", "Release", "Touch", "ContactTouch", "Lift", "SlipStart", "SlipStop", "Jam"]
 
 
 @dataclass(frozen=True)
@@ -51,7 +40,7 @@ class Event:
     #: whether the mode that the event ends must be excluded from the next selection
     excludes_current = False
 
-    def value(self, ctx: EventContext) -> float:
+    def value(self, motion) -> float:
         raise NotImplementedError
 
     def record(self, t: float) -> dict:
@@ -64,16 +53,16 @@ class Release(Event):
 
     excludes_current = True
 
-    def value(self, ctx: EventContext) -> float:
-        return ctx.solution.multiplier(self.row)
+    def value(self, motion) -> float:
+        return motion.multiplier(self.row)
 
 
 @dataclass(frozen=True)
 class Touch(Event):
     """A released unilateral constraint closes (``f`` reaches zero)."""
 
-    def value(self, ctx: EventContext) -> float:
-        return float(ctx.observables["pos"][self.row])
+    def value(self, motion) -> float:
+        return float(motion.observables["pos"][self.row])
 
 
 @dataclass(frozen=True)
@@ -86,8 +75,8 @@ class ContactEvent(Event):
 class ContactTouch(ContactEvent):
     """A separated contact closes: the gap reaches zero."""
 
-    def value(self, ctx: EventContext) -> float:
-        return ctx.solution.contacts[self.name].gap
+    def value(self, motion) -> float:
+        return motion.gap(self.row)
 
 
 @dataclass(frozen=True)
@@ -98,8 +87,8 @@ class Lift(ContactEvent):
     sigma: int = 1
     excludes_current = True
 
-    def value(self, ctx: EventContext) -> float:
-        return self.sigma * ctx.solution.contacts[self.name].N
+    def value(self, motion) -> float:
+        return self.sigma * motion.normal(self.row)
 
 
 @dataclass(frozen=True)
@@ -108,9 +97,9 @@ class SlipStart(ContactEvent):
 
     excludes_current = True
 
-    def value(self, ctx: EventContext) -> float:
-        cf = ctx.solution.contacts[self.name]
-        return cf.mu_s * abs(cf.N) - float(np.sqrt(cf.F @ cf.F))
+    def value(self, motion) -> float:
+        F = motion.friction(self.row)
+        return motion.mu_s(self.row) * abs(motion.normal(self.row)) - math.sqrt(F @ F)
 
 
 @dataclass(frozen=True)
@@ -120,12 +109,12 @@ class SlipStop(ContactEvent):
 
     direction: float = 1.0
 
-    def value(self, ctx: EventContext) -> float:
-        U = ctx.solution.contacts[self.name].U
+    def value(self, motion) -> float:
+        U = motion.slip(self.row)
         if len(U) == 1:
             return self.direction * float(U[0])
-        ref = ctx.solver.reference.get(self.row)
-        return float(U @ ref) if ref is not None else float(np.sqrt(U @ U))
+        ref = motion.solver.reference.get(self.row)
+        return float(U @ ref) if ref is not None else math.sqrt(U @ U)
 
 
 @dataclass(frozen=True)
@@ -133,19 +122,5 @@ class Jam(ContactEvent):
     """The effective normal compliance of a sliding contact reaches zero: beyond it sliding
     has no consistent (or no unique) continuation -- Painleve's paradox."""
 
-    def value(self, ctx: EventContext) -> float:
-        # b = 1/(K^-1)_jj from the matrices the solution already holds (no kernel calls)
-        sol = ctx.solution
-        j = next(k for k, r in enumerate(sol.layout) if r.kind == "normal" and r.name == self.name)
-        n, m = sol.M.shape[0], len(sol.layout)
-        K = np.zeros((n + m, n + m))
-        K[:n, :n] = sol.M
-        K[:n, n:] = -sol.Bm
-        K[n:, :n] = sol.Gm
-        e = np.zeros(n + m)
-        e[n + j] = 1.0
-        try:
-            inv_jj = np.linalg.solve(K, e)[n + j]
-        except np.linalg.LinAlgError:
-            return 0.0
-        return float(1.0 / inv_jj) if inv_jj != 0 else float("inf")
+    def value(self, motion) -> float:
+        return motion.compliance(self.row)

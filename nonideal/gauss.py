@@ -45,7 +45,6 @@ class GaussResult:
 
 def gauss_minimize(M: np.ndarray, force: np.ndarray, G: np.ndarray, gamma: np.ndarray) -> np.ndarray:
     """``argmin 1/2 (a - M^-1 f)^T M (a - M^-1 f)`` s.t. ``G a + gamma = 0`` (null-space method)."""
-    n = M.shape[0]
     m = G.shape[0]
     if m == 0:
         return np.linalg.solve(M, force)

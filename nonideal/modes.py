@@ -16,7 +16,9 @@ nonholonomic row ``U_k = 0`` per slip component (multiplier = friction force com
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -25,7 +27,7 @@ from .contacts import Coulomb, LinearizedCoulomb, RegularizedCoulomb
 from .dynamics import dynamics_of
 from .errors import FormNotApplicable, MechanicsError, SingularSystem
 from .formalisms import derive
-from .numeric import FormSystem, Kernel, SingularMatrix, solve_saddle
+from .numeric import FormSystem, Kernel, SingularMatrix, max_abs, solve_saddle
 
 __all__ = ["Mode", "ContactState", "RowSpec", "Solution", "ContactForce", "ModeSolver",
            "SEPARATED", "STICK", "SLIDE", "SMOOTH"]
@@ -57,6 +59,10 @@ class ContactState:
     sigma: int = 1
 
     def label(self) -> str:
+        return self._label
+
+    @cached_property
+    def _label(self) -> str:
         if self.state == SLIDE and len(self.direction) == 1:
             out = "slide+" if self.direction[0] > 0 else "slide-"
         else:
@@ -83,12 +89,17 @@ class Mode:
         return ContactState()
 
     def label(self) -> str:
+        return self._label
+
+    @cached_property
+    def _label(self) -> str:
         parts = sorted(self.held)
         parts += [f"{n}:{cs.label()}" for n, cs in self.contacts]
         return ", ".join(parts) if parts else "free"
 
-    @property
+    @cached_property
     def structure(self) -> tuple:
+        """What the equations depend on (directions enter as numbers)."""
         return (self.held, tuple((n, cs.structure) for n, cs in self.contacts))
 
     def with_contact(self, name: str, cs: ContactState) -> "Mode":
@@ -237,11 +248,15 @@ class ModeSolver:
     params : ndarray
     form : str
     independent : tuple of str, optional
+    specialize : bool
+        Lagrange I: use the compiled system of a mode once its structure is hot
+        (:class:`~nonideal.mode_system.ModeFunction`); ``False``: always the index path.
     """
 
     def __init__(self, kernel: Kernel, params: np.ndarray, form: str = "lagrange1",
-                 independent=None):
+                 independent=None, specialize: bool = True):
         self.kernel = kernel
+        self.specialize = specialize
         self.params = params
         self.form = form
         self.independent = independent
@@ -258,11 +273,15 @@ class ModeSolver:
         self._active: dict[tuple, FormSystem] = {}
         self._elim_rows: dict[tuple, list[int]] = {}
         self._refused: set[tuple] = set()
-        self._layouts: dict[tuple, list[RowSpec]] = {}
         self.x = kernel.layout.make(params)
         self.n = kernel.n
         self.laws = [c.law for c in self.ck.data]
         self.reference: dict[int, np.ndarray] = {}
+        # one output buffer for both kernels: the Lagrange I fast path gathers from it
+        self.z = np.zeros(kernel.dynamics.size + self.ck.size)
+        self.kz, self.cz = self.z[:kernel.dynamics.size], self.z[kernel.dynamics.size:]
+        #: the last Lagrange I solve: (t, y, mode, [q''; -lambda], LU, pivots)
+        self.last = None
 
     # ------------------------------------------------------------------ modes and rows
     def initial_contacts(self) -> tuple[tuple[str, ContactState], ...]:
@@ -273,20 +292,9 @@ class ModeSolver:
         return [i for i, r in enumerate(self.kernel.rows) if not r.unilateral or r.name in mode.held]
 
     def layout(self, mode: Mode) -> list[RowSpec]:
-        key = mode.structure
-        lay = self._layouts.get(key)
-        if lay is None:
-            lay = [RowSpec("constraint", i, 0, self.kernel.rows[i].name) for i in self.rows(mode)]
-            for c, (name, cs) in enumerate(mode.contacts):
-                if cs.state == SEPARATED:
-                    continue
-                lay.append(RowSpec("normal", c, 0, name))
-                if cs.state == STICK:
-                    d = self.ck.dims[c]
-                    for k in range(d):
-                        lay.append(RowSpec("tangent", c, k, f"{name}_t{k + 1}" if d > 1 else f"{name}_t"))
-            self._layouts[key] = lay
-        return lay
+        """The rows of *mode*: active constraints, then per touching contact its normal row and,
+        when sticking, its slip rows."""
+        return self.system(mode).layout
 
     def input(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         x = self.x
@@ -296,10 +304,27 @@ class ModeSolver:
         x[1 + n:1 + 2 * n] = qd
         return x
 
+    def system(self, mode: Mode):
+        """The :class:`~nonideal.mode_system.ModeSystem` of the structure of *mode* (cached per
+        model)."""
+        from .mode_system import system_of
+
+        return system_of(self.kernel, mode)
+
+    def motion(self, t: float, y: np.ndarray, mode: Mode, kin: np.ndarray | None = None):
+        """The :class:`~nonideal.mode_system.Motion` at the state ``y = [q, q', ...]`` (lazy:
+        evaluated on first use; reuses :attr:`last` when it was solved at that state, and
+        *kin*, the contact kernel's flat outputs at the state, when given)."""
+        from .mode_system import Motion
+
+        return Motion(self, mode, t, y, kin)
+
     # ------------------------------------------------------------------ friction shapes
-    def friction_shape(self, c: int, cs: ContactState, U: np.ndarray) -> np.ndarray:
+    def friction_shape(self, c: int, cs: ContactState, U: np.ndarray,
+                       qd: np.ndarray | None = None) -> np.ndarray:
         """The vector ``s`` with friction ``F = -sigma mu N s`` (unit slip direction for
-        Coulomb sliding; the regularized shape for the smooth laws)."""
+        Coulomb sliding; the regularized shape for the smooth laws).  *qd*: the velocities of
+        the state (default: those of the last :meth:`input`), which scale the test ``|U| ~ 0``."""
         law = self.laws[c]
         if cs.state == SMOOTH:
             nrm = float(np.sqrt(U @ U))
@@ -309,10 +334,12 @@ class ModeSolver:
                 return U / law.eps if nrm <= law.eps else U / nrm
         if len(U) == 1:
             return np.array(cs.direction, dtype=float)
-        nrm = float(np.sqrt(U @ U))
-        scale = 1e-12 * (1.0 + float(np.max(np.abs(self.x[1 + self.n:1 + 2 * self.n]))))
+        nrm = math.sqrt(U @ U)
+        if qd is None:
+            qd = self.x[1 + self.n:1 + 2 * self.n]
         ref = self.reference.get(c)
-        if nrm > scale:
+        # |U| > 1e-12 (1 + max |q'|); the cheap bound 2e-12 (1 + |q'|) decides all but tiny slips
+        if nrm > 2e-12 * (1.0 + math.sqrt(qd @ qd)) or nrm > 1e-12 * (1.0 + max_abs(qd)):
             s = U / nrm
             # analytic continuation through U = 0 within a step: keep the orientation of the
             # slip at the start of the step, so that the right-hand side stays smooth up to
@@ -324,18 +351,16 @@ class ModeSolver:
             return ref
         return np.array(cs.direction, dtype=float) if cs.direction else np.zeros_like(U)
 
-    def set_references(self, mode: "Mode", t: float, q: np.ndarray, qd: np.ndarray) -> None:
-        """Record the slip direction of every two-component sliding contact (called by the
-        simulation at the start of each step)."""
+    def set_references(self, mode: "Mode", motion) -> None:
+        """Record the slip direction of every two-component sliding contact at the state of
+        *motion* (a :class:`~nonideal.mode_system.Motion`; the simulation calls this at the
+        start of each step)."""
         self.reference = {}
-        if not self.ck:
-            return
-        cout = self.ck(self.input(t, q, qd))
         for c, (name, cs) in enumerate(mode.contacts):
             if cs.state == SLIDE and self.ck.dims[c] > 1:
-                U = self.ck.slip(cout, c)
-                nrm = float(np.sqrt(U @ U))
-                scale = 1e-12 * (1.0 + float(np.max(np.abs(qd))))
+                U = motion.slip(c)
+                nrm = math.sqrt(U @ U)
+                scale = 1e-12 * (1.0 + max_abs(motion.qd))
                 if nrm > scale:
                     self.reference[c] = U / nrm
                 elif cs.direction:
@@ -503,7 +528,31 @@ class ModeSolver:
         SingularSystem
             Singular mass matrix or dependent constraints (named).
         """
+        n = self.n
+        if self.form == "lagrange1":
+            system = self.system(mode)
+            y = np.concatenate((q, qd))
+            K, r, _ = system.assemble(self, t, y, mode)
+            Gm, gm, Bm = K[n:, :n].copy(), -r[n:], K[:n, n:].copy()  # before the factorization
+            try:
+                sol, _, _ = system.factor(K, r)
+            except SingularMatrix:
+                pass  # the general path: minimum-norm contact forces, or a named error
+            else:
+                cout = None
+                if self.ck:
+                    cout = self.ck.fn.views(self.ck.fn.raw(self.x, self.cz))  # also without contact rows
+                out = self.kernel.dynamics.views(self.kz)
+                return self._solution(mode, system.layout, sol[:n].copy(), -sol[n:], out, cout, Gm, gm, Bm)
         qdd, values, layout, out, cout = self.accelerations(t, q, qd, mode)
+        if layout:
+            Gm, gm, Bm = self.assemble(mode, layout, out, cout)
+        else:
+            Gm, gm, Bm = np.zeros((0, n)), np.zeros(0), np.zeros((n, 0))
+        return self._solution(mode, layout, qdd, values, out, cout, Gm, gm, Bm)
+
+    def _solution(self, mode, layout, qdd, values, out, cout, Gm, gm, Bm) -> Solution:
+        """Package an evaluation (buffers copied) as a :class:`Solution`."""
         n, m_all = self.n, self.kernel.m
         qdd = np.array(qdd, dtype=float)
         M, F = out["M"].copy(), out["F"].copy()
@@ -511,10 +560,6 @@ class ModeSolver:
         gamma = out["gamma"].copy() if m_all else np.zeros(0)
         B = out["B"].copy() if m_all else np.zeros((n, 0))
         cout = {k: (np.array(v) if isinstance(v, np.ndarray) else v) for k, v in cout.items()} if cout else None
-        if layout:
-            Gm, gm, Bm = self.assemble(mode, layout, out, cout)
-        else:
-            Gm, gm, Bm = np.zeros((0, n)), np.zeros(0), np.zeros((n, 0))
         direct = {}
         if values is None:
             values = recover_multipliers(M, F, Bm, qdd) if layout else np.zeros(0)

@@ -28,19 +28,30 @@ from scipy.optimize import brentq
 
 from .consistency import complete_state, project_state
 from .errors import IntegrationFailed, ModelError, PainleveParadox
-from .events import (ContactTouch, Event, EventContext, Jam, Lift, Release, SlipStart, SlipStop,
-                     Touch)
+from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch
 from .model import Model
+from .mode_system import Motion
 from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, ModeSolver
-from .numeric import kernel_of, parameter_vector
+from .numeric import SingularMatrix, kernel_of, max_abs, parameter_vector
 from .switching import effective_compliance, impact, select_mode, validate_contacts
 from .trajectory import Sample, Trajectory
 
 __all__ = ["simulate", "Simulation"]
 
+# completed initial states: {id(kernel): (kernel, {(given values, parameters): (q, q')})}
+_INITIAL: dict[int, tuple] = {}
+
 SOLVERS = {"DOP853": DOP853, "RK45": RK45, "RK23": RK23, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 PROJECTION_TOL = 1e-10
 N_WORK = 5  # active (non-potential), reactions, explicit time, friction, impacts
+WORK_ATOL = 10.0
+"""The work integrals in the state only feed the energy balance; at the motion's absolute
+tolerance they shortened its steps wherever a power vanishes up to rounding (ideal
+reactions, sticking friction: the integrator then resolves noise).  Ten times looser, they
+leave the steps to the motion (knife chain n = 6, 5 s at rtol 1e-8: 54 -> 39 steps; looser
+still: 37) while every test's bound on the energy balance and on the drift of the
+constraints holds (100 times looser breaks the car's: its sticking rows drift more with
+longer steps)."""
 
 
 class Simulation:
@@ -59,17 +70,22 @@ class Simulation:
         Independent coordinates for the reduced forms.
     detect_jam : bool
         Watch the effective normal compliance of sliding contacts (Painleve's paradox).
+    specialize : bool
+        Compile the saddle-point system of a mode with contacts once its structure has been
+        integrated :data:`~nonideal.mode_system.SPECIALIZE_CALLS` times (faster; it agrees
+        with the index path to rounding).  ``False`` keeps the index path, so that a run
+        gives bit-identical results whatever ran before it in the process.
     """
 
     def __init__(self, model: Model, form: str = "lagrange1",
                  parameters: Mapping[str, float] | None = None, rtol: float | None = None,
                  atol: float | None = None, method: str | None = None,
                  max_step: float | None = None, independent=None, max_events: int = 10_000,
-                 detect_jam: bool = True):
+                 detect_jam: bool = True, specialize: bool = True):
         self.model = model
         self.kernel = kernel_of(model)
         self.params = parameter_vector(model, parameters)
-        self.solver = ModeSolver(self.kernel, self.params, form, independent)
+        self.solver = ModeSolver(self.kernel, self.params, form, independent, specialize)
         sim = model.simulation
         self.rtol = rtol if rtol is not None else sim.rtol
         self.atol = atol if atol is not None else sim.atol
@@ -86,6 +102,51 @@ class Simulation:
 
     # ------------------------------------------------------------------ right-hand side
     def rhs(self, mode: Mode):
+        """The right-hand side ``f(t, y)`` of a phase in *mode*, ``y = [q, q', W]``.
+
+        Lagrange I evaluates the mode's :class:`~nonideal.mode_system.ModeSystem` (assembled
+        by index; the powers of the reactions from the same solve); the other forms, and a
+        singular system, take the general path of :meth:`ModeSolver.accelerations`.
+        """
+        if self.solver.form == "lagrange1":
+            return self._lagrange1_rhs(mode)
+        return self._general_rhs(mode)
+
+    def _lagrange1_rhs(self, mode: Mode):
+        n, solver = self.n, self.solver
+        system = solver.system(mode)
+        general = self._general_rhs(mode)  # singular: minimum-norm contact forces or a named error
+
+        if not self.track:
+            def fun(t, y):
+                try:
+                    sol = system.solve(solver, t, y, mode)
+                except SingularMatrix:
+                    return general(t, y)
+                return np.concatenate((y[n:2 * n], sol[:n]))
+            return fun
+
+        # the compiled system, once this mode structure has been integrated long enough
+        function = system.specialized(self.kernel, mode) if solver.specialize else None
+        x = function.inputs(solver, mode) if function else None
+
+        def fun(t, y):
+            try:
+                out = function.solve_with_powers(solver, x, t, y, mode) if function else None
+                if out is None:
+                    out = system.solve_with_powers(solver, t, y, mode)
+            except SingularMatrix:
+                return general(t, y)
+            sol, P_R, P_f, P = out
+            dy = np.empty_like(y)
+            dy[:n] = y[n:2 * n]
+            dy[n:2 * n] = sol[:n]
+            # works: active, reactions, explicit time, friction, impacts (changed at switches)
+            dy[2 * n:] = (0.0, P_R, 0.0, P_f, 0.0) if P is None else (P[0], P_R, P[1], P_f, 0.0)
+            return dy
+        return fun
+
+    def _general_rhs(self, mode: Mode):
         n, solver, track = self.n, self.solver, self.track
         kernel = self.kernel
 
@@ -156,22 +217,14 @@ class Simulation:
                     out.append(Jam("jam", name, c))
         return out
 
-    def context(self, t: float, y: np.ndarray, mode: Mode) -> EventContext:
-        n = self.n
-        q, qd = y[:n], y[n:2 * n]
-        sol = self.solver.solve(t, q, qd, mode)
-        obs = self.kernel.observables(self.solver.input(t, q, qd)) if self.kernel.rows else {}
-        return EventContext(t, q, qd, sol, obs, self.solver, mode)
-
-    def _tolerance(self, ev: Event, ctx: EventContext) -> float:
-        force = 1.0 + float(np.max(np.abs(ctx.solution.F)))
+    def _tolerance(self, ev: Event, motion: Motion) -> float:
         if isinstance(ev, (Release, Lift, SlipStart)):
-            return 1e-9 * force
+            return 1e-9 * motion.force_scale()
         if isinstance(ev, Jam):
             return 1e-12
         if isinstance(ev, SlipStop):
-            return 1e-10 * (1.0 + float(np.max(np.abs(ctx.qd))))
-        return 1e-10 * (1.0 + float(np.max(np.abs(ctx.q))))
+            return 1e-10 * (1.0 + max_abs(motion.qd))
+        return 1e-10 * (1.0 + max_abs(motion.q))
 
     # ------------------------------------------------------------------ switching
     def _switch(self, t: float, y: np.ndarray, mode: Mode, ev: Event):
@@ -218,34 +271,34 @@ class Simulation:
     def _project(self, mode: Mode, t, q, qd):
         """Project onto the constraint rows of *mode* (constraints, closed gaps, stick rows)."""
         rows = self.solver.rows(mode)
-        q, qd = project_state(self.kernel, rows, t, q, qd, self.params)
+        if rows:
+            q, qd = project_state(self.kernel, rows, t, q, qd, self.params)
         if not self.contacts:
             return q, qd
+        ck = self.solver.ck
         for _ in range(4):
-            sol = self.solver.solve(t, q, qd, mode)
+            cout = ck(self.solver.input(t, q, qd))
             Gp, rp, Gv, rv = [], [], [], []
             for c, (name, cs) in enumerate(mode.contacts):
                 if cs.state == SEPARATED:
                     continue
-                cf = sol.contacts[name]
-                o = self.solver.ck.offsets[c]
-                cout = self.solver.ck(self.solver.input(t, q, qd))
+                o = ck.offsets[c]
                 Gp.append(cout["Gn"][c].copy())
-                rp.append(cf.gap)
+                rp.append(float(cout["gap"][c]))
                 Gv.append(cout["Gn"][c].copy())
-                rv.append(cf.gap_rate)
+                rv.append(float(cout["gap_rate"][c]))
                 if cs.state == STICK:
-                    for k in range(self.solver.ck.dims[c]):
+                    for k in range(ck.dims[c]):
                         Gv.append(cout["W"][o + k].copy())
-                        rv.append(cf.U[k])
+                        rv.append(float(cout["U"][o + k]))
             if not Gp:
                 break
-            scale = 1 + np.max(np.abs(q))
-            if max(np.max(np.abs(rp)), np.max(np.abs(rv), initial=0.0)) < 1e-14 * scale:
+            scale = 1.0 + max_abs(q)
+            if max(map(abs, rp + rv)) < 1e-14 * scale:
                 break
+            out = self.kernel.dynamics(self.solver.input(t, q, qd)) if rows else None
             for i in rows:  # keep the constraints while correcting the contacts
                 r = self.kernel.rows[i]
-                out = self.kernel.dynamics(self.solver.input(t, q, qd))
                 if r.position is not None:
                     Gp.append(out["G"][i].copy())
                     rp.append(0.0)
@@ -255,6 +308,15 @@ class Simulation:
             q = q + np.linalg.lstsq(np.array(Gp), -np.array(rp), rcond=None)[0]
             qd = qd + np.linalg.lstsq(np.array(Gv), -np.array(rv), rcond=None)[0]
         return q, qd
+
+    def _work_tolerances(self):
+        """Absolute tolerances of the state ``[q, q', W]``: *atol* for the motion and
+        :data:`WORK_ATOL` times it for the work integrals (a user's array is kept)."""
+        if np.ndim(self.atol):
+            return self.atol
+        atol = np.full(2 * self.n + N_WORK, float(self.atol))
+        atol[2 * self.n:] *= WORK_ATOL
+        return atol
 
     def _energy(self, t, q, qd) -> float:
         """Jacobi's energy ``T2 - T0 + V`` at a state."""
@@ -269,9 +331,24 @@ class Simulation:
 
     # ------------------------------------------------------------------ main loop
     def initial_state(self, initial: Mapping[str, float] | None = None):
+        """The initial ``(q, q')``: the model's values with the overrides *initial*, completed
+        and checked by :func:`~nonideal.consistency.complete_state` (a pure function of the
+        model, the parameters and the values: memoized)."""
         given = dict(self.model.numeric_initial())
         given.update(initial or {})
+        numbers = all(isinstance(v, (int, float, np.number)) for v in given.values())
+        key = (tuple(sorted(given.items())), self.params.tobytes()) if numbers else None
+        hit = _INITIAL.get(id(self.kernel))
+        if hit is not None and hit[0] is self.kernel and key in hit[1]:
+            q, qd = hit[1][key]
+            return q.copy(), qd.copy()
         q, qd, closed = complete_state(self.kernel, given, self.params, self.model.t0)
+        if key is not None:
+            if hit is None or hit[0] is not self.kernel or len(hit[1]) > 256:
+                if len(_INITIAL) > 32:
+                    _INITIAL.clear()
+                hit = _INITIAL[id(self.kernel)] = (self.kernel, {})
+            hit[1][key] = (q.copy(), qd.copy())
         return q, qd
 
     def run(self, t_end: float | None = None, times: Sequence[float] | None = None,
@@ -326,17 +403,18 @@ class Simulation:
         mode = select_mode(self.solver, t0, q0, qd0)
         q0, qd0 = self._project(mode, t0, q0, qd0)
         y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))
-        atol = self.atol
+        atol = self._work_tolerances() if self.track else self.atol
         samples: list[Sample] = []
         events_log: list[dict] = []
         next_time = 0
 
-        def emit(t, yy, md, solution=None):
-            samples.append(Sample(float(t), np.array(yy, dtype=float), md, solution))
+        def emit(t, yy, md, motion=None):
+            samples.append(Sample(float(t), np.array(yy, dtype=float), md, motion))
 
-        if times is None or (times.size and abs(times[0] - t0) <= 1e-14 * max(1, abs(t0))):
-            emit(t0, y, mode)
-            next_time = 1 if times is not None else 0
+        # the state at the start of a phase is sampled at the top of the loop, with its motion
+        pending = times is None or bool(times.size and abs(times[0] - t0) <= 1e-14 * max(1, abs(t0)))
+        if pending and times is not None:
+            next_time = 1
         t = t0
         h = None
         tiny = 0
@@ -344,17 +422,22 @@ class Simulation:
         projections = 0
         residual_max = {"position": 0.0, "velocity": 0.0}
         Solver = SOLVERS[self.method]
+        solver = self.solver
         while t < t_end:
             fun = self.rhs(mode)
             events = self.events(mode, t, y)
+            drift = solver.system(mode).drift_rows
             kwargs = dict(rtol=self.rtol, atol=atol, max_step=self.max_step)
             if h is not None and self.method not in ("LSODA",):
                 kwargs["first_step"] = min(h, t_end - t)
-            self.solver.set_references(mode, t, y[:n], y[n:2 * n])
+            motion = Motion(solver, mode, t, y)
+            if pending:
+                emit(t, y, mode, motion)
+                pending = False
+            solver.set_references(mode, motion)
             ode = Solver(fun, t, y, t_end, **kwargs)
-            ctx = self.context(t, y, mode)
-            g_prev = [ev.value(ctx) for ev in events]
-            tols = [self._tolerance(ev, ctx) for ev in events]
+            g_prev = [ev.value(motion) for ev in events]
+            tols = [self._tolerance(ev, motion) for ev in events]
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
             restart = False
             while not restart:
@@ -372,8 +455,9 @@ class Simulation:
                         "2000 steps: the right-hand side is not smooth here (a nonlinear constraint at "
                         "a singular point, or a friction law without a sticking mode at zero slip)",
                         None if model.source == "<api>" else model.source)
-                ctx = self.context(t_new, ode.y, mode)
-                g_new = [ev.value(ctx) for ev in events]
+                # the integrator's last evaluation was at (t_new, ode.y): the motion reuses it
+                motion = Motion(solver, mode, t_new, ode.y)
+                g_new = [ev.value(motion) for ev in events]
                 hits = []
                 dense = None
                 for k, ev in enumerate(events):
@@ -386,7 +470,7 @@ class Simulation:
                     dense = dense or ode.dense_output()
 
                     def g(s, ev=ev, shift=shift):
-                        return ev.value(self.context(s, dense(s), mode)) + shift
+                        return ev.value(Motion(solver, mode, s, dense(s))) + shift
                     a, b = t_old, t_new
                     if g(a) <= 0:
                         te = a
@@ -395,9 +479,11 @@ class Simulation:
                     hits.append((te, k))
                 if hits:
                     te, k = min(hits)
-                    next_time = self._sample_dense(dense, t_old, te, times, next_time, mode, emit,
-                                                   include_end=times is None)
                     ye = dense(te)
+                    if times is None:
+                        emit(te, ye, mode)  # the state at the event, before the switch
+                    else:
+                        next_time = self._sample_dense(dense, t_old, te, times, next_time, mode, emit)
                     if stop_on and events[k].kind in stop_on:
                         if times is not None:
                             emit(te, ye, mode)
@@ -418,48 +504,48 @@ class Simulation:
                     mode = new_mode
                     t = te
                     if times is None:
-                        emit(t, y, mode)
+                        pending = True
                     elif next_time < times.size and abs(times[next_time] - t) <= 1e-14 * max(1, abs(t)):
-                        emit(t, y, mode)
+                        pending = True
                         next_time += 1
                     restart = True
                     continue
                 for k in range(len(events)):
                     if not armed[k] and g_new[k] > tols[k]:
                         armed[k] = True
-                if self.solver.reference:
-                    self.solver.set_references(mode, t_new, ode.y[:n], ode.y[n:2 * n])
-                    ctx = self.context(t_new, ode.y, mode)
-                    g_new = [ev.value(ctx) for ev in events]
+                if solver.reference:  # the slip-stop values change with the reference only
+                    solver.set_references(mode, motion)
+                    g_new = [ev.value(motion) for ev in events]
                 g_prev = g_new
                 # drift control
-                res_p, res_v = self._residuals(ctx, mode)
+                res_p, res_v = self._residuals(motion, mode, drift)
                 residual_max["position"] = max(residual_max["position"], res_p)
                 residual_max["velocity"] = max(residual_max["velocity"], res_v)
-                scale = 1 + np.max(np.abs(ode.y[:2 * n]))
+                scale = 1.0 + max_abs(ode.y[:2 * n])
                 if max(res_p, res_v) > PROJECTION_TOL * scale:
                     if times is not None:
                         next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times,
-                                                       next_time, mode, emit, include_end=False)
+                                                       next_time, mode, emit)
                     y = ode.y.copy()
                     q, qd = self._project(mode, t_new, y[:n], y[n:2 * n])
                     y[:n], y[n:2 * n] = q, qd
                     projections += 1
                     t = t_new
-                    if times is None:
-                        emit(t, y, mode)
+                    pending = times is None
                     restart = True
                     continue
                 if times is None:
-                    emit(t_new, ode.y, mode, ctx.solution)
+                    emit(t_new, ode.y, mode, motion)
                 else:
                     next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times, next_time,
-                                                   mode, emit, include_end=False)
+                                                   mode, emit)
                 t, y = t_new, ode.y
                 if ode.status == "finished":
                     break
             if stopped or (not restart and ode.status == "finished"):
                 break
+        if pending:  # a switch exactly at the end
+            emit(t, y, mode)
         if times is not None:
             while next_time < times.size and times[next_time] <= t + 1e-12 * max(1, abs(t)):
                 emit(times[next_time], y, mode)
@@ -492,31 +578,29 @@ class Simulation:
                     f"effective normal compliance b = {b:.3g} of the sliding contact vanished -- the "
                     "normal force grows without bound (dynamic jamming)", ode.t, state)
 
-    def _residuals(self, ctx: EventContext, mode: Mode):
-        rows = self.solver.rows(mode)
+    @staticmethod
+    def _residuals(motion: Motion, mode: Mode, drift):
+        """Position and velocity residuals of the mode's rows at a state; *drift* = ``(pos,
+        vel)``, the active kernel rows with a position / velocity level."""
+        pos, vel = drift
         rp = rv = 0.0
-        if rows:
-            obs = ctx.observables
-            pos = [i for i in rows if self.kernel.rows[i].position is not None]
-            vel = [i for i in rows if self.kernel.rows[i].velocity is not None]
-            rp = float(np.max(np.abs(obs["pos"][pos]))) if pos else 0.0
-            rv = float(np.max(np.abs(obs["vel"][vel]))) if vel else 0.0
-        for name, cs in mode.contacts:
+        if pos or vel:
+            obs = motion.observables
+            rp = float(np.abs(obs["pos"][pos]).max()) if pos else 0.0
+            rv = float(np.abs(obs["vel"][vel]).max()) if vel else 0.0
+        for c, (name, cs) in enumerate(mode.contacts):
             if cs.state == SEPARATED:
                 continue
-            cf = ctx.solution.contacts[name]
-            rp = max(rp, abs(cf.gap))
-            rv = max(rv, abs(cf.gap_rate))
+            rp = max(rp, abs(motion.gap(c)))
+            rv = max(rv, abs(motion.gap_rate(c)))
             if cs.state == STICK:
-                rv = max(rv, float(np.max(np.abs(cf.U))))
+                rv = max(rv, max_abs(motion.slip(c)))
         return rp, rv
 
     @staticmethod
-    def _sample_dense(dense, t_old, t_new, times, next_time, mode, emit, include_end):
-        if times is None:
-            if include_end:
-                emit(t_new, dense(t_new), mode)
-            return next_time
+    def _sample_dense(dense, t_old, t_new, times, next_time, mode, emit):
+        """Emit the requested *times* in ``[t_old, t_new]`` from the dense output; the index
+        of the next one."""
         while next_time < times.size and times[next_time] <= t_new:
             if times[next_time] >= t_old:
                 emit(times[next_time], dense(times[next_time]), mode)
@@ -538,7 +622,7 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
         Formalism used to evaluate the accelerations.
     **options
         ``parameters``, ``rtol``, ``atol``, ``method``, ``max_step``, ``independent``,
-        ``initial``, ``detect_jam``.
+        ``initial``, ``detect_jam``, ``specialize``.
 
     Returns
     -------
@@ -552,7 +636,7 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
     [0.0, 1.0]
     """
     allowed = ("parameters", "rtol", "atol", "method", "max_step", "independent", "max_events",
-               "detect_jam", "initial", "stop_on")
+               "detect_jam", "specialize", "initial", "stop_on")
     unknown = [k for k in options if k not in allowed]
     if unknown:
         from .errors import did_you_mean

@@ -21,13 +21,15 @@ reported with the contact, the state and the critical friction coefficient.
 from __future__ import annotations
 
 import itertools
+import math
 
 import numpy as np
 from scipy.optimize import brentq
 
 from .errors import MechanicsError, PainleveParadox, SingularSystem
+from .mode_system import compliance_of
 from .modes import SEPARATED, SLIDE, SMOOTH, STICK, ContactState, Mode, ModeSolver
-from .numeric import SingularMatrix, solve_saddle
+from .numeric import SingularMatrix, max_abs, solve_saddle
 
 __all__ = ["select_mode", "impact", "effective_compliance", "critical_friction", "MAX_COMBINATIONS"]
 
@@ -35,26 +37,27 @@ MAX_COMBINATIONS = 4096
 
 
 def _scales(q, qd):
-    return 1.0 + float(np.max(np.abs(q))), 1.0 + float(np.max(np.abs(qd)))
+    return 1.0 + max_abs(q), 1.0 + max_abs(qd)
 
 
-def contact_options(solver: ModeSolver, t, q, qd, tol_pos=1e-9, tol_vel=1e-9, previous: Mode | None = None):
-    """Admissible states of every contact at a state (closed contacts get several)."""
+def contact_options(solver: ModeSolver, kin: np.ndarray, scales, tol_pos=1e-9, tol_vel=1e-9):
+    """Admissible states of every contact at a state (closed contacts get several); *kin*: the
+    contact kernel's flat outputs there, *scales*: ``1 + max |q|``, ``1 + max |q'|``."""
     ck = solver.ck
     if not ck:
         return []
-    cout = ck(solver.input(t, q, qd))
-    sq, sv = _scales(q, qd)
+    sq, sv = scales
+    at = ck.at
     options = []
     for c, data in enumerate(ck.data):
-        gap, rate = cout["gap"][c], cout["gap_rate"][c]
+        gap, rate = kin[at["gap"] + c], kin[at["gap_rate"] + c]
         closed = data.bilateral or (abs(gap) <= tol_pos * sq and rate <= tol_vel * sv)
         if not closed:
             options.append([ContactState(SEPARATED)])
             continue
         opts = [] if data.bilateral else [ContactState(SEPARATED)]
         sigmas = (1, -1) if data.bilateral else (1,)
-        U = ck.slip(cout, c)
+        U = kin[at["U"] + ck.offsets[c]:at["U"] + ck.offsets[c] + ck.dims[c]]
         if not solver.laws[c].exact:
             opts += [ContactState(SMOOTH, (), s) for s in sigmas]
         elif np.sqrt(U @ U) <= tol_vel * sv:
@@ -76,11 +79,12 @@ def _onset_directions(solver: ModeSolver, t, q, qd, mode: Mode, c: int):
     the slip acceleration is ``kappa s`` with ``kappa >= 0``."""
     name = solver.ck.names[c]
     cs = mode.contacts[c][1]
+    y = np.concatenate((q, qd))
 
     def udot(phi):
         s = (float(np.cos(phi)), float(np.sin(phi)))
-        sol = solver.solve(t, q, qd, mode.with_contact(name, ContactState(SLIDE, s, cs.sigma)))
-        return sol.contacts[name].Udot, np.array(s)
+        motion = solver.motion(t, y, mode.with_contact(name, ContactState(SLIDE, s, cs.sigma)))
+        return motion.slip_acc(c), np.array(s)
 
     def cross(phi):
         ud, s = udot(phi)
@@ -105,42 +109,52 @@ def _onset_directions(solver: ModeSolver, t, q, qd, mode: Mode, c: int):
     return out
 
 
-def _consistent(solver, sol, mode, closed_uni, t, q, qd, onset_check=True):
-    """Sign conditions of a candidate mode (see the module docstring)."""
+def _consistent(solver, motion, mode, closed_uni, scales, onset_check=True):
+    """Sign conditions of a candidate mode (see the module docstring) on its
+    :class:`~nonideal.mode_system.Motion`; *scales*: ``1 + max |q|``, ``1 + max |q'|`` and
+    ``1 + max |F|`` at the state."""
     kernel = solver.kernel
-    sq, sv = _scales(q, qd)
-    fscale = 1.0 + float(np.max(np.abs(sol.F))) + float(np.max(np.abs(sol.values), initial=0.0))
-    tol_f = 1e-9 * fscale
-    tol_a = 1e-9 * (1.0 + float(np.max(np.abs(sol.qdd))))
+    sq, sv, sf = scales
+    qdd, values = motion.qdd, motion.values
+    tol_f = 1e-9 * (sf + max_abs(values))
+    tol_a = 1e-9 * (1.0 + max_abs(qdd))
     for i in closed_uni:
         name = kernel.rows[i].name
         if name in mode.held:
-            if sol.multiplier(i) < -tol_f:
+            if motion.multiplier(i) < -tol_f:
                 return False
-        elif sol.G[i] @ sol.qdd + sol.gamma[i] < -tol_a:
+        elif motion.constraint_acc(i) < -tol_a:
             return False
     for c, (name, cs) in enumerate(mode.contacts):
-        cf = sol.contacts[name]
         if cs.state == SEPARATED:
-            closed = abs(cf.gap) <= 1e-8 * sq and cf.gap_rate <= 1e-8 * sv
-            if closed and cf.gap_acc < -tol_a:
+            closed = abs(motion.gap(c)) <= 1e-8 * sq and motion.gap_rate(c) <= 1e-8 * sv
+            if closed and motion.gap_acc(c) < -tol_a:
                 return False
             continue
+        N, F = motion.normal(c), motion.friction(c)
         if solver.ck.data[c].bilateral:
-            if cs.state in (SLIDE, SMOOTH) and cs.sigma * cf.N < -tol_f:
+            if cs.state in (SLIDE, SMOOTH) and cs.sigma * N < -tol_f:
                 return False
-            if cs.state == STICK and np.sqrt(cf.F @ cf.F) > cf.mu_s * abs(cf.N) + tol_f:
+            if cs.state == STICK and np.sqrt(F @ F) > motion.mu_s(c) * abs(N) + tol_f:
                 return False
         else:
-            if cf.N < -tol_f:
+            if N < -tol_f:
                 return False
-            if cs.state == STICK and np.sqrt(cf.F @ cf.F) > cf.mu_s * cf.N + tol_f:
+            if cs.state == STICK and np.sqrt(F @ F) > motion.mu_s(c) * N + tol_f:
                 return False
-        if cs.state == SLIDE and onset_check and np.sqrt(cf.U @ cf.U) <= 1e-9 * sv:
-            s = solver.friction_shape(c, cs, cf.U)
-            if cf.Udot @ s < -tol_a:
+        U = motion.slip(c)
+        if cs.state == SLIDE and onset_check and np.sqrt(U @ U) <= 1e-9 * sv:
+            s = solver.friction_shape(c, cs, U, motion.qd)
+            if motion.slip_acc(c) @ s < -tol_a:
                 return False
     return True
+
+
+def _state(solver, q, qd) -> dict:
+    """The state named for an error message."""
+    state = dict(zip(solver.model.coordinates, q))
+    state.update({c + "'": v for c, v in zip(solver.model.coordinates, qd)})
+    return state
 
 
 def _stickiness(mode: Mode) -> tuple:
@@ -180,14 +194,21 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
     """
     kernel = solver.kernel
     sq, sv = _scales(q, qd)
-    obs = kernel.observables(solver.input(t, q, qd))
-    closed = [i for i in solver.unilateral
-              if abs(obs["pos"][i]) <= tol_pos * sq and obs["vel"][i] <= tol_vel * sv]
+    closed = []
+    if solver.unilateral:
+        obs = kernel.observables(solver.input(t, q, qd))
+        closed = [i for i in solver.unilateral
+                  if abs(obs["pos"][i]) <= tol_pos * sq and obs["vel"][i] <= tol_vel * sv]
     names = [kernel.rows[i].name for i in closed]
-    copts = contact_options(solver, t, q, qd, tol_pos, tol_vel)
+    # what every candidate shares: the state, its kinematics and the scale of the forces
+    y = np.concatenate((q, qd))
+    x = solver.input(t, q, qd)
+    kin = solver.ck.fn.raw(x, np.empty(solver.ck.size)) if solver.ck else None
+    scales = (sq, sv, 1.0 + max_abs(kernel.dynamics(x)["F"]))
+    copts = contact_options(solver, kin, (sq, sv), tol_pos, tol_vel)
     held_sets = [frozenset(names[j] for j in sub)
                  for k in range(len(closed), -1, -1) for sub in itertools.combinations(range(len(closed)), k)]
-    total = len(held_sets) * int(np.prod([len(o) for o in copts])) if copts else len(held_sets)
+    total = len(held_sets) * math.prod(len(o) for o in copts)
     if total > MAX_COMBINATIONS:
         raise MechanicsError(f"too many simultaneous contact states to enumerate ({total})", t)
     consistent = []
@@ -214,33 +235,33 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
                         expanded.append(m.with_contact(solver.ck.names[c], ContactState(SLIDE, s, cs.sigma)))
                 modes = expanded
         for mode in modes:
+            motion = solver.motion(t, y, mode, kin)
             try:
-                sol = solver.solve(t, q, qd, mode)
+                qdd = motion.qdd
             except (SingularSystem, MechanicsError) as exc:
                 singular.append(exc)
                 continue
-            if not np.all(np.isfinite(sol.qdd)):
+            if not np.isfinite(qdd).all():
                 continue
-            if _consistent(solver, sol, mode, closed, t, q, qd):
+            if _consistent(solver, motion, mode, closed, scales):
                 if exclude is not None and _same(mode, exclude):
-                    fallback = (mode, sol)
+                    fallback = (mode, motion)
                     continue
-                consistent.append((mode, sol))
+                consistent.append((mode, motion))
                 level = sticks if level is None else level
     if not consistent and fallback is not None:
         consistent = [fallback]
-    state = dict(zip(solver.model.coordinates, q))
-    state.update({c + "'": v for c, v in zip(solver.model.coordinates, qd)})
     if not consistent and singular and all(isinstance(e, SingularSystem) for e in singular):
         # every candidate is singular: the model itself is (mass matrix, dependent constraints)
         raise singular[0]
     if not consistent:
         sliding = [n for n, o in zip(solver.ck.names, copts) if any(cs.state == SLIDE for cs in o)]
         if sliding:
-            raise _paradox(solver, t, q, qd, sliding, "inconsistent", state)
+            raise _paradox(solver, t, q, qd, sliding, "inconsistent", _state(solver, q, qd))
         raise MechanicsError(
             "no consistent set of held constraints and contact states: every choice among "
-            f"{names + solver.ck.names} either pulls (negative normal force) or penetrates", t, state)
+            f"{names + solver.ck.names} either pulls (negative normal force) or penetrates", t,
+            _state(solver, q, qd))
     best = max(_stickiness(m) for m, _ in consistent)
     # static friction: among the consistent choices prefer those that stick the most
     preferred = [(m, s) for m, s in consistent if _stickiness(m)[0] == best[0]]
@@ -257,17 +278,17 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
             least = min(change(m) for m, _ in preferred)
             preferred = [(m, sol) for m, sol in preferred if change(m) == least]
     m0, s0 = preferred[0]
-    scale = 1e-7 * (1.0 + float(np.max(np.abs(s0.qdd))))
-    distinct = [(m, s) for m, s in preferred if not np.allclose(s.qdd, s0.qdd, rtol=1e-7, atol=scale)]
+    scale = 1e-7 * (1.0 + max_abs(s0.qdd))
+    distinct = [(m, s) for m, s in preferred[1:] if not np.allclose(s.qdd, s0.qdd, rtol=1e-7, atol=scale)]
     if distinct:
         m1 = distinct[0][0]
         sliding = [n for n, cs in m0.contacts + m1.contacts if cs.state == SLIDE]
         if sliding:
-            raise _paradox(solver, t, q, qd, sorted(set(sliding)), "indeterminate", state,
+            raise _paradox(solver, t, q, qd, sorted(set(sliding)), "indeterminate", _state(solver, q, qd),
                            [m0.label(), m1.label()])
         raise MechanicsError(
             f"the motion is not unique: [{m0.label()}] and [{m1.label()}] are both consistent "
-            "and give different accelerations", t, state)
+            "and give different accelerations", t, _state(solver, q, qd))
     return max(preferred, key=lambda ms: _stickiness(ms[0]))[0]
 
 
@@ -290,22 +311,8 @@ def effective_compliance(solver: ModeSolver, t, q, qd, mode: Mode, contact: str,
         cout["mu"][c] = mu
     layout = solver.layout(mode)
     G, gamma, B = solver.assemble(mode, layout, out, cout)
-    M = out["M"]
-    n, m = solver.n, len(layout)
-    K = np.zeros((n + m, n + m))
-    K[:n, :n] = M
-    K[:n, n:] = -B
-    K[n:, :n] = G
     j = next(k for k, r in enumerate(layout) if r.kind == "normal" and r.index == c)
-    e = np.zeros(n + m)
-    e[n + j] = 1.0
-    try:
-        col = np.linalg.solve(K, e)
-    except np.linalg.LinAlgError:
-        return 0.0
-    # the lower-right block of K^-1 is (G M^-1 B)^-1; its (j, j) entry is 1/b
-    inv_jj = col[n + j]
-    return float(1.0 / inv_jj) if inv_jj != 0 else float("inf")
+    return compliance_of(out["M"], B, G, j)
 
 
 def critical_friction(solver: ModeSolver, t, q, qd, mode: Mode, contact: str) -> float | None:
@@ -484,6 +491,11 @@ def validate_contacts(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarra
     if not ck:
         return
     x = solver.input(t, q, qd)
+    # a pure function of the model and the input: states already found valid are not checked again
+    key = x.tobytes()
+    seen = _VALIDATED.get(id(ck))
+    if seen is not None and seen[0] is ck and key in seen[1]:
+        return
     cout = {k: np.array(v) if isinstance(v, np.ndarray) else v for k, v in ck(x).items()}
     out = solver.kernel.dynamics(x)
     src = None if solver.model.source == "<api>" else solver.model.source
@@ -513,3 +525,13 @@ def validate_contacts(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarra
                             "normal force can be identified; write the gap as the normal distance")
     if problems:
         raise ModelError(problems, src)
+    if seen is None or seen[0] is not ck or len(seen[1]) > 256:
+        if len(_VALIDATED) > 32:
+            _VALIDATED.clear()
+        seen = _VALIDATED[id(ck)] = (ck, set())
+    seen[1].add(key)
+
+
+# inputs [t, q, q', parameters] at which validate_contacts found a model's contacts valid:
+# {id(contact kernel): (contact kernel, set of input bytes)}
+_VALIDATED: dict[int, tuple] = {}

@@ -28,7 +28,7 @@ class Sample:
     t: float
     y: np.ndarray
     mode: Any
-    solution: Any = None  # the motion at this state, when the simulation already computed it
+    motion: Any = None  # the Motion at this state, when the simulation already has it
 
 
 @dataclass(frozen=True, eq=False)
@@ -67,46 +67,42 @@ class Trajectory:
     # ---------------------------------------------------------------- construction
     @classmethod
     def from_samples(cls, sim, samples, events, diagnostics, residual_max) -> "Trajectory":
+        """Assemble the result: the motion of each sample (the simulation's own at the step
+        ends, else evaluated), energies and constraint residuals in one batch evaluation of the
+        compiled observables over all samples."""
         kernel, solver = sim.kernel, sim.solver
         n = kernel.n
         N = len(samples)
         t = np.array([s.t for s in samples])
         Y = np.array([s.y for s in samples]) if N else np.zeros((0, 2 * n))
         q, qd = Y[:, :n], Y[:, n:2 * n]
-        qdd = np.zeros((N, n))
+        motions = [s.motion if s.motion is not None else solver.motion(s.t, s.y, s.mode) for s in samples]
+        qdd = np.array([m.qdd for m in motions]).reshape(N, n)
         rows = kernel.rows
         mult = {r.name: np.zeros(N) for r in rows}
-        T = np.zeros(N)
-        V = np.zeros(N)
-        E = np.zeros(N)
+        names = solver.ck.names if solver.ck else []
+        records: list[list] = [[] for _ in names]  # per contact: (mode, N, F, U, gap, mu_s) per sample
         res_p = res_v = 0.0
-        ck = solver.ck
-        contacts = {name: {"normal": np.zeros(N), "friction": np.zeros((N, d)), "slip": np.zeros((N, d)),
-                           "gap": np.zeros(N), "mu_static": np.zeros(N), "mode": []}
-                    for name, d in zip(ck.names, ck.dims)} if ck else {}
-        for k, s in enumerate(samples):
-            sol = s.solution if s.solution is not None else solver.solve(s.t, q[k], qd[k], s.mode)
-            qdd[k] = sol.qdd
-            for j, i in enumerate(sol.rows):
-                mult[rows[i].name][k] = sol.multipliers[j]
-            for name, cf in sol.contacts.items():
-                rec = contacts[name]
-                rec["normal"][k] = cf.N
-                rec["friction"][k] = cf.F
-                rec["slip"][k] = cf.U
-                rec["gap"][k] = cf.gap
-                rec["mu_static"][k] = cf.mu_s
-                rec["mode"].append(cf.state)
-            obs = kernel.observables(solver.input(s.t, q[k], qd[k]))
-            T[k], V[k] = obs["T"], obs["V"]
-            T2 = 0.5 * qd[k] @ sol.M @ qd[k]
-            E[k] = T2 - obs["T0"] + V[k]
-            pos = [i for i in sol.rows if rows[i].position is not None]
-            vel = [i for i in sol.rows if rows[i].velocity is not None]
-            if pos:
-                res_p = max(res_p, float(np.max(np.abs(obs["pos"][pos]))))
-            if vel:
-                res_v = max(res_v, float(np.max(np.abs(obs["vel"][vel]))))
+        X = np.empty((N, len(solver.x)))
+        X[:] = solver.x
+        X[:, 0] = t
+        X[:, 1:1 + 2 * n] = Y[:, :2 * n]
+        obs = kernel.observables.views(kernel.observables.batch(X))
+        M = kernel.dynamics.views(kernel.dynamics.batch(X))["M"]
+        for k, m in enumerate(motions):
+            if m.system.row_col:
+                values = m.values
+                for i, j in m.system.row_col.items():
+                    mult[rows[i].name][k] = values[j]
+                pos, vel = m.system.drift_rows
+                if pos:
+                    res_p = max(res_p, float(np.abs(obs["pos"][k, pos]).max()))
+                if vel:
+                    res_v = max(res_v, float(np.abs(obs["vel"][k, vel]).max()))
+            for c, rec in enumerate(records):
+                rec.append(m.contact_record(c))
+        T, V = obs["T"], obs["V"]
+        E = 0.5 * np.einsum("ki,kij,kj->k", qd, M, qd) - obs["T0"] + V
         works = Y[:, 2 * n:2 * n + 5] if Y.shape[1] > 2 * n else np.zeros((N, 5))
         W_nc, W_R, W_t, W_f, W_i = (works[:, k] for k in range(5))
         balance = (E - E[0]) - (W_nc + W_R + W_t + W_f + W_i) if N else np.zeros(0)
@@ -126,9 +122,14 @@ class Trajectory:
             energy_balance_relative=float(np.max(np.abs(balance)) / scale) if N else 0.0,
             samples=N,
         )
-        for rec in contacts.values():
-            rec["friction"] = rec["friction"].tolist()
-            rec["slip"] = rec["slip"].tolist()
+        contacts = {}
+        for name, d, rec in zip(names, solver.ck.dims if names else [], records):
+            label, normal, friction, slip, gap, mu_s = zip(*rec) if rec else ((),) * 6
+            contacts[name] = {"normal": np.array(normal, dtype=float),
+                              "friction": np.array(friction, dtype=float).reshape(N, d).tolist(),
+                              "slip": np.array(slip, dtype=float).reshape(N, d).tolist(),
+                              "gap": np.array(gap, dtype=float), "mu_static": np.array(mu_s, dtype=float),
+                              "mode": list(label)}
         return cls(kernel.model.name, tuple(kernel.model.coordinates), t, q, qd, qdd,
                    [s.mode.label() for s in samples], mult, energy, list(events), diag, contacts)
 
