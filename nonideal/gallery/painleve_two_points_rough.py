@@ -248,8 +248,10 @@ def split_along(model: Model, traj, stride: int = 1):
         fp = sum(np.array(r["friction_part"]) for r in ev.reactions.values())
         lam1 = float(rod[2:] @ np.array([np.cos(th[k]), np.sin(th[k])]))
         lam = float(ev.reactions["line"]["constraint_part"][1])
-        rows.append((th[k], thd[k], float(np.sign(traj.qd[k, 0])), lam1, lam, fp[0] / m,
-                     ev.contacts["line"]["mode"]))
+        mode = ev.contacts["line"]["mode"]
+        # the sliding direction of the mode (at a switch x' is ~0 and its sign means nothing)
+        sigma = {"slide+": 1.0, "slide-": -1.0}.get(mode, float(np.sign(traj.qd[k, 0])))
+        rows.append((th[k], thd[k], sigma, lam1, lam, fp[0] / m, mode))
     cols = list(zip(*rows))
     return [np.array(c) for c in cols[:6]] + [list(cols[6])]
 
