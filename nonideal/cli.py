@@ -21,6 +21,7 @@ from .errors import MechanicsError, ModelError, NonidealError, did_you_mean
 __all__ = ["main", "build_parser"]
 
 METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+PLOT_SAMPLES = 601   # samples of a plotted run when --times is not given
 
 
 # ------------------------------------------------------------------------------ helpers
@@ -396,7 +397,15 @@ def cmd_simulate(args) -> int:
     if args.plot:
         from .plotting import plot_trajectory
 
-        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(traj, tmp))
+        shown = traj
+        if times is None and len(traj.t) < PLOT_SAMPLES:
+            # the integrator's steps are far apart for drawing forces: the same run sampled
+            # on a fine grid (dense output; the events are marked on the plot)
+            import numpy as np
+
+            grid = np.linspace(traj.t[0], traj.t[-1], PLOT_SAMPLES)
+            shown = simulate(model, t_end=traj.t[-1], times=grid, form=args.form, **options)
+        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(shown, tmp))
     stdout = None
     if args.json == "-":
         stdout = json.dumps(traj.to_dict(), indent=1, allow_nan=True)

@@ -11,6 +11,33 @@ import numpy as np  # noqa: E402
 __all__ = ["plot_trajectory"]
 
 
+def _hermite(t: np.ndarray, y: np.ndarray, dy: np.ndarray, points: int = 12):
+    """Curves through the samples for drawing: cubic Hermite interpolation of ``y`` with its
+    derivative ``dy`` between consecutive samples (the samples are the integrator's steps,
+    too far apart for straight segments); a repeated time (a jump at an event) stays a jump.
+
+    Returns ``(t, y)`` with ``points - 1`` points inserted in every interval.
+    """
+    if len(t) < 2:
+        return t, y
+    s = np.linspace(0.0, 1.0, points + 1)[:-1]
+    h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
+    h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2
+    ts, ys = [], []
+    for k in range(len(t) - 1):
+        h = t[k + 1] - t[k]
+        if h <= 0:
+            ts.append(t[k:k + 1])
+            ys.append(y[k:k + 1])
+            continue
+        ts.append(t[k] + h * s)
+        ys.append(np.outer(h00, y[k]) + np.outer(h10 * h, dy[k]) + np.outer(h01, y[k + 1])
+                  + np.outer(h11 * h, dy[k + 1]))
+    ts.append(t[-1:])
+    ys.append(y[-1:])
+    return np.concatenate(ts), np.vstack(ys)
+
+
 def plot_trajectory(traj, path, title: str | None = None) -> None:
     """Write a PNG with the coordinates, velocities, multipliers/contact forces and energy.
 
@@ -22,13 +49,15 @@ def plot_trajectory(traj, path, title: str | None = None) -> None:
     fig, axes = plt.subplots(panels, 1, figsize=(8, 2.3 * panels), sharex=True)
     t = traj.t
     ax = axes[0]
+    tt, q = _hermite(t, traj.q, traj.qd)
     for i, c in enumerate(traj.coordinates):
-        ax.plot(t, traj.q[:, i], label=c)
+        ax.plot(tt, q[:, i], label=c)
     ax.set_ylabel("coordinates")
     ax.legend(loc="best", fontsize=8, ncol=min(4, len(traj.coordinates)))
     ax = axes[1]
+    tt, qd = _hermite(t, traj.qd, traj.qdd)
     for i, c in enumerate(traj.coordinates):
-        ax.plot(t, traj.qd[:, i], label=c + "'")
+        ax.plot(tt, qd[:, i], label=c + "'")
     ax.set_ylabel("velocities")
     ax.legend(loc="best", fontsize=8, ncol=min(4, len(traj.coordinates)))
     ax = axes[2]

@@ -173,18 +173,35 @@ class Trajectory:
         return json.dumps(self.to_dict(), indent=1)
 
     def to_csv(self, path) -> None:
-        """One row per sample: t, q, q', q'', multipliers, energy terms, mode."""
+        """One row per sample: t, q, q', q'', multipliers, per contact its normal force
+        ``N_<name>``, friction and slip components (``F_<name>``, ``U_<name>``; suffixed
+        ``_1, _2`` for two components), gap and mode, then the energy terms and the mode of
+        the whole system."""
+        contact_header, contact_columns = [], []
+        for name, c in self.contacts.items():
+            cols = [("N_" + name, np.asarray(c["normal"], dtype=float))]
+            for key, label in (("friction", "F_"), ("slip", "U_")):
+                values = np.asarray(c[key], dtype=float).reshape(len(self.t), -1)
+                d = values.shape[1]
+                cols += [(label + name + (f"_{j + 1}" if d > 1 else ""), values[:, j]) for j in range(d)]
+            if "gap" in c:
+                cols.append(("gap_" + name, np.asarray(c["gap"], dtype=float)))
+            contact_header += [h for h, _ in cols] + ["mode_" + name]
+            contact_columns.append(([v for _, v in cols], c["mode"]))
         header = ["t"] + list(self.coordinates) + [c + "'" for c in self.coordinates] \
             + [c + "''" for c in self.coordinates] + [f"lambda_{k}" for k in self.multipliers] \
-            + list(self.energy) + ["mode"]
+            + contact_header + list(self.energy) + ["mode"]
         with open(path, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(header)
             for k in range(len(self.t)):
                 row = [self.t[k], *self.q[k], *self.qd[k], *self.qdd[k]]
-                row += [v[k] for v in self.multipliers.values()]
-                row += [v[k] for v in self.energy.values()]
-                w.writerow([f"{x:.17g}" for x in row] + [self.modes[k]])
+                row = [f"{x:.17g}" for x in row]
+                row += [f"{v[k]:.17g}" for v in self.multipliers.values()]
+                for values, modes in contact_columns:
+                    row += [f"{v[k]:.17g}" for v in values] + [modes[k]]
+                row += [f"{v[k]:.17g}" for v in self.energy.values()]
+                w.writerow(row + [self.modes[k]])
 
 
 def _jsonable(obj):

@@ -224,3 +224,20 @@ def test_outputs_get_the_usual_file_mode(capsys, tmp_path):
     assert code == 0
     for name in OUTPUTS:
         assert stat.S_IMODE((tmp_path / name).stat().st_mode) == 0o644, name
+
+
+def test_csv_holds_the_contact_forces(capsys, tmp_path):
+    # the sphere's contact has two slip components: N, F_1, F_2, U_1, U_2, gap and mode columns
+    import csv as csvlib
+
+    code, _, err = cli(capsys, "simulate", "sphere-sliding-on-plane", "--times", "0,0.1,0.5",
+                       "--csv", tmp_path / "s.csv", "--json", tmp_path / "s.json")
+    assert code == 0, err
+    rows = list(csvlib.DictReader((tmp_path / "s.csv").open()))
+    data = json.loads((tmp_path / "s.json").read_text())["contacts"]["plane"]
+    assert len(rows) == 3
+    for k, row in enumerate(rows):
+        assert float(row["N_plane"]) == data["normal"][k]
+        assert [float(row["F_plane_1"]), float(row["F_plane_2"])] == data["friction"][k]
+        assert [float(row["U_plane_1"]), float(row["U_plane_2"])] == data["slip"][k]
+        assert row["mode_plane"] == data["mode"][k]
