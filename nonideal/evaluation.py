@@ -56,9 +56,25 @@ class Evaluation:
             "qddot": dict(zip(c, map(float, self.qdd))),
             "multipliers": dict(self.multipliers),
             "reactions": self.reactions,
+            "reaction_total": self.reaction_total(),
             "contacts": self.contacts,
             "mode": self.mode,
         }
+
+    def reaction_total(self) -> dict[str, list[float]]:
+        """The total generalized reaction ``M q'' - F`` and its Painleve split, summed over all
+        constraints and contacts.  Only these sums balance: friction at a contact also changes
+        the physical reactions of the other (ideal) constraints, and Painleve's split assigns
+        that change to the friction part of the contact (seed 000, (1.14)-(1.17))."""
+        n = len(self.coordinates)
+        out = {}
+        for key in ("generalized", "constraint_part", "friction_part"):
+            total = np.zeros(n)
+            for r in self.reactions.values():
+                if key in r and len(r[key]) == n:
+                    total += np.asarray(r[key], dtype=float)
+            out[key] = [float(v) for v in total]
+        return out
 
     def as_text(self) -> str:
         lines = [f"{self.model} at t = {self.t:g}  (form: {self.form}, mode: {self.mode})"]
@@ -81,6 +97,14 @@ class Evaluation:
             if self.split_available:
                 lines.append(f"    constraint part        = {_fmt(r['constraint_part'])}")
                 lines.append(f"    friction part          = {_fmt(r['friction_part'])}")
+        if self.split_available and len(self.reactions) > 1 and any(
+                any(v != 0 for v in r.get("friction_part", ())) for r in self.reactions.values()):
+            tot = self.reaction_total()
+            lines.append("  all reactions (only the sums balance: friction changes the other "
+                         "constraints' reactions too)")
+            lines.append(f"    total (generalized)    = {_fmt(tot['generalized'])}")
+            lines.append(f"    constraint part        = {_fmt(tot['constraint_part'])}")
+            lines.append(f"    friction part          = {_fmt(tot['friction_part'])}")
         return "\n".join(lines)
 
 

@@ -143,3 +143,17 @@ def test_equations_with_friction_in_the_seeds_representation(model):
     Qf = eom.generalized_forces
     m = sp.Symbol("m")
     assert sp.simplify(Qf[0] - m * sp.Symbol("mu_1")) == 0
+
+
+def test_reaction_total_balances_where_single_rows_need_not(model):
+    # the rod's own parts do not add up to its physical reaction (friction at the line
+    # changes it), the totals over all rows do
+    d = evaluate(model).to_dict()
+    tot = d["reaction_total"]
+    rod = d["reactions"]["rod"]
+    assert np.array(rod["constraint_part"]) + np.array(rod["friction_part"]) != pytest.approx(
+        np.array(rod["generalized"]), abs=1e-6)
+    assert np.array(tot["constraint_part"]) + np.array(tot["friction_part"]) == pytest.approx(
+        np.array(tot["generalized"]), abs=1e-12)
+    assert tot["generalized"] == pytest.approx(
+        sum(np.array(r["generalized"]) for r in d["reactions"].values()), abs=1e-12)
