@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from nonideal import Constraint, FormNotApplicable, Model, gallery
+from nonideal.crosscheck import compare_forms
 from nonideal.errors import IntegrationFailed
 from nonideal.modelfile import load_model
 from nonideal.modes import Mode, ModeSolver
@@ -102,6 +103,14 @@ def test_a_chart_is_never_used_off_its_branch():
     expected = ModeSolver(kernel, params, "lagrange1").solve(0.0, q, qd, Mode()).qdd
     assert np.allclose(sol.qdd, expected, rtol=1e-12, atol=1e-12)
     assert solver.charts.changes == 1
+
+
+@pytest.mark.parametrize("make", [double_pendulum, pendulum])
+def test_compare_forms_evaluates_lagrange2_on_every_branch(make):
+    report = compare_forms(make(), forms=["lagrange2"], count=20, spread=1.0)
+    assert report.states == 20
+    assert report.off_chart == {}
+    assert report.worst() < 1e-10, report
 
 
 @pytest.mark.parametrize("name", ["appell-ladder", "painleve-rod"])
