@@ -134,6 +134,9 @@ def _advice(reason: str, t: float) -> str:
         return (f"{earlier}; impacts that repeat without end (Zeno) stop with restitution = 0 "
                 "(plastic), chattering contacts with a regularized friction law "
                 "(friction = \"regularized\", eps)")
+    if "chart of lagrange ii" in text:
+        return ("use --form lagrange1 or --form maggi, which keep the redundant coordinates and "
+                f"need no chart, or {earlier}")
     if "not smooth" in text or "collapsed" in text:
         return f"{earlier}, or make the right-hand side smooth there (see the reason)"
     return (f"{earlier}, use method = \"Radau\" in [simulation] if the problem is stiff, or "

@@ -8,7 +8,8 @@ The format is the one of the SPEC (``format = 1``), extended -- never broken -- 
 * ``restitution`` for unilateral constraints (impact law; 0 = plastic, the default);
 * contacts: ``friction = "coulomb" | "regularized" | "linearized"``, ``eps``,
   ``restitution``, ``bilateral``;
-* ``[forms] independent`` -- independent coordinates for the reduced forms;
+* ``[forms] independent`` -- independent coordinates for the reduced forms (for
+  ``lagrange2`` those of the first chart, see :mod:`nonideal.charts`);
 * ``[parameters]`` values may be tables ``{value, unit, description}``, and expressions in the
   other parameters (derived parameters, e.g. ``w = "sqrt(g/l)"``), evaluated in dependency
   order when the file is read;

@@ -35,8 +35,9 @@ __all__ = ["Mode", "ContactState", "RowSpec", "Solution", "ContactForce", "ModeS
 SEPARATED, STICK, SLIDE, SMOOTH = "separated", "stick", "slide", "smooth"
 
 
-# compiled reduced forms, per model and form: {(id(model), form): ({key: FormSystem}, model)}
-_FORM_CACHE: dict[tuple, tuple[dict, object]] = {}
+# compiled reduced forms, per model and form: {(id(model), form): ({key: FormSystem},
+# {(structure, kept): [FormSystem]} (the charts of Lagrange II), model)}
+_FORM_CACHE: dict[tuple, tuple[dict, dict, object]] = {}
 
 
 @dataclass(frozen=True)
@@ -180,26 +181,26 @@ class Solution:
 REPARTITION_GAIN = 4.0
 
 
-def _better_partition(Gi: np.ndarray, dep: list[int]) -> list[int] | None:
+def _better_partition(Gi: np.ndarray, dep: list[int], gain: float = REPARTITION_GAIN) -> list[int] | None:
     """A better-conditioned choice of dependent coordinates for the rows ``Gi`` (m, n), or
-    ``None`` when the current choice *dep* is good enough.
+    ``None`` when the current choice *dep* is good enough (every ``|X_ij| <= gain``).
 
     With ``X = G_D^-1 G_I`` the entry ``|X_ij|`` is the factor by which ``|det G_D|`` changes
     when dependent coordinate i and independent coordinate j are exchanged (Cramer's rule), and
     ``q'_D = -X q'_I`` on the constraint manifold: a large entry means the dependent velocities
     are large multiples of the independent ones and the reduced form loses digits to
     cancellation (the choice becomes singular where the motion has no component along an
-    independent coordinate).  The current choice is kept while every ``|X_ij| <=
-    REPARTITION_GAIN``; otherwise exchanges of the largest entry are made until all are <= 1.05
-    (a locally maximal-volume choice, as in "maxvol" coordinate partitioning), so switching
-    back needs the entries to grow again by ~``REPARTITION_GAIN`` (hysteresis).
+    independent coordinate).  The current choice is kept while every ``|X_ij| <= gain``;
+    otherwise exchanges of the largest entry are made until all are <= 1.05 (a locally
+    maximal-volume choice, as in "maxvol" coordinate partitioning), so switching back needs
+    the entries to grow again by ~``gain`` (hysteresis).
     """
     m, n = Gi.shape
     if m == 0:
         return None
     dep = list(dep)
     X = _exchange_factors(Gi, dep)
-    if X is not None and (X.size == 0 or float(np.max(np.abs(X))) <= REPARTITION_GAIN):
+    if X is not None and (X.size == 0 or float(np.max(np.abs(X))) <= gain):
         return None
     if X is None:
         from scipy.linalg import qr
@@ -248,6 +249,9 @@ class ModeSolver:
     params : ndarray
     form : str
     independent : tuple of str, optional
+        Independent coordinates of the reduced forms, kept as given (no re-partitioning);
+        for Lagrange II the first chart only (it changes charts where that one becomes
+        singular: :attr:`charts`, :mod:`nonideal.charts`).
     specialize : bool
         Lagrange I: use the compiled system of a mode once its structure is hot
         (:class:`~nonideal.mode_system.ModeFunction`); ``False``: always the index path.
@@ -265,11 +269,17 @@ class ModeSolver:
         self.bilateral = [i for i, r in enumerate(kernel.rows) if not r.unilateral]
         self.unilateral = [i for i, r in enumerate(kernel.rows) if r.unilateral]
         entry = _FORM_CACHE.get((id(self.model), form))
-        if entry is None or entry[1] is not self.model:
+        if entry is None or entry[2] is not self.model:
             if len(_FORM_CACHE) > 64:
                 _FORM_CACHE.clear()
-            entry = _FORM_CACHE[(id(self.model), form)] = ({}, self.model)
+            entry = _FORM_CACHE[(id(self.model), form)] = ({}, {}, self.model)
         self._forms: dict[tuple, FormSystem] = entry[0]
+        #: Lagrange II: the charts the motion moves through (:class:`~nonideal.charts.Charts`)
+        self.charts = None
+        if form == "lagrange2":
+            from .charts import Charts
+
+            self.charts = Charts(self, entry[1])
         self._active: dict[tuple, FormSystem] = {}
         self._elim_rows: dict[tuple, list[int]] = {}
         self._refused: set[tuple] = set()
@@ -418,29 +428,34 @@ class ModeSolver:
         key = (mode.structure, independent)
         fs = self._forms.get(key)
         if fs is None:
-            rows, extra = self._symbolic_rows(mode)
-            eom = derive(self.model, self.form, rows=rows, independent=independent)
-            fs = FormSystem(eom, extra=extra)
+            fs = self.derive_form(mode, independent)
             self._forms[key] = fs
             if independent is None:
-                self._forms[(mode.structure, eom.independent)] = fs
+                self._forms[(mode.structure, fs.eom.independent)] = fs
         return fs
+
+    def derive_form(self, mode: Mode, independent=None, branch=None) -> FormSystem:
+        """Derive and compile the form for the structure of *mode* (not cached; *branch*:
+        Lagrange II's chart through these coordinates, see :func:`~nonideal.formalisms.derive`)."""
+        rows, extra = self._symbolic_rows(mode)
+        eom = derive(self.model, self.form, rows=rows, independent=independent, branch=branch)
+        if self.charts is not None and "chart" in eom.extras_:
+            from .charts import chart_outputs
+
+            return FormSystem(eom, extra=extra, extra_outputs=chart_outputs(eom))
+        return FormSystem(eom, extra=extra)
 
     def _current_form(self, mode: Mode, Gm: np.ndarray, layout: list[RowSpec]) -> FormSystem:
         """The form for *mode*; when the user did not fix the independent coordinates and the
         current choice is far from the best-conditioned one at this state, re-partition
-        (:func:`_better_partition`) -- coordinate partitioning, as in multibody codes."""
+        (:func:`_better_partition`) -- coordinate partitioning, as in multibody codes.
+        Lagrange II changes charts after the evaluation (:meth:`_solve_on_chart`)."""
         key = mode.structure
         fs = self._active.get(key) or self.form_system(mode)
-        # Lagrange II eliminates coordinates on a chart (a root of the constraints chosen at the
-        # initial state): it is never re-partitioned
         if self.independent is not None or not fs.eom.eliminated or self.form == "lagrange2":
             self._active[key] = fs
             return fs
-        ideal = self._elim_rows.get((key, id(fs)))
-        if ideal is None:
-            ideal = [j for j, r in enumerate(layout) if self._ideal(mode, r) and r.name in fs.eom.eliminated]
-            self._elim_rows[(key, id(fs))] = ideal
+        ideal = self._eliminated_rows(mode, fs, layout)
         if not ideal:
             return fs
         coords = list(self.model.coordinates)
@@ -458,6 +473,15 @@ class ModeSolver:
                     self._refused.add((key, ind))
         self._active[key] = fs
         return fs
+
+    def _eliminated_rows(self, mode: Mode, fs: FormSystem, layout: list[RowSpec]) -> list[int]:
+        """Positions in *layout* of the ideal rows that the form *fs* eliminates."""
+        key = (mode.structure, id(fs))
+        ideal = self._elim_rows.get(key)
+        if ideal is None:
+            ideal = [j for j, r in enumerate(layout) if self._ideal(mode, r) and r.name in fs.eom.eliminated]
+            self._elim_rows[key] = ideal
+        return ideal
 
     def _ideal(self, mode: Mode, r: RowSpec) -> bool:
         if r.kind == "constraint":
@@ -500,7 +524,10 @@ class ModeSolver:
             fs = self._current_form(mode, Gm, layout)
             extra = self._extra_values(mode, cout)
             xb = np.concatenate((x, extra)) if extra.size else x
-            _, mu_form, qdd = fs.solve(xb)
+            if fs.extra_outputs:
+                fs, (_, mu_form, qdd) = self._solve_on_chart(mode, fs, Gm, layout, t, q, xb)
+            else:
+                _, mu_form, qdd = fs.solve(xb)
             self._last_direct = dict(zip(fs.eom.constraint_names, map(float, mu_form)))
             return qdd, None, layout, out, cout
         except SingularMatrix:
@@ -511,6 +538,25 @@ class ModeSolver:
                 if sol is not None:
                     return sol[0], sol[1], layout, out, cout
             raise diagnose_singular(self, M, Gm, Bm, layout, t, q, qd) from None
+
+    def _solve_on_chart(self, mode: Mode, fs: FormSystem, Gm, layout, t, q, xb):
+        """Lagrange II: ``(fs, fs.solve(xb))`` on the chart *fs*, or on the chart that
+        :meth:`Charts.check <nonideal.charts.Charts.check>` puts in its place (then the active
+        one of the structure)."""
+        try:
+            result = fs.solve(xb)
+        except SingularMatrix:
+            result = None
+        else:
+            if fs.last["chart"][0] <= 0.0:  # on the chart, and far from its singularity
+                return fs, result
+        new = self.charts.check(mode, fs, Gm, layout, t, q, xb)
+        if new is None:
+            if result is None:
+                raise SingularMatrix("Lagrange II on its chart")
+            return fs, result
+        self._active[mode.structure] = new
+        return new, new.solve(xb)
 
     def _extra_values(self, mode: Mode, cout) -> np.ndarray:
         vals = []

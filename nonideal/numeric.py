@@ -325,10 +325,23 @@ class FormSystem:
     """The compiled equations of one :class:`EquationsOfMotion`.
 
     ``solve(x)`` returns ``(a, mu, qdd)``: the form's unknowns, its multipliers, and the
-    accelerations of all coordinates.
+    accelerations of all coordinates.  :attr:`last` holds the compiled outputs of the last
+    call (views, valid until the next): ``A, b, R, r`` and, with multipliers, ``B, G,
+    gamma``, and the *extra_outputs*.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+    extra : sequence of str
+        Names of further inputs, after the parameters (e.g. slip directions).
+    extra_outputs : mapping name -> expressions, optional
+        Further expressions of the inputs compiled with the equations (e.g. the chart test
+        of Lagrange II, :func:`nonideal.charts.chart_outputs`); their names are kept in the
+        attribute of that name.
     """
 
-    def __init__(self, eom: EquationsOfMotion, extra: Sequence = ()):
+    def __init__(self, eom: EquationsOfMotion, extra: Sequence = (),
+                 extra_outputs: Mapping[str, object] | None = None):
         self.eom = eom
         dyn: Dynamics = dynamics_of(eom.model)
         # extra inputs (e.g. slip directions of sliding contacts) follow the parameters
@@ -349,9 +362,12 @@ class FormSystem:
         self.m = len(eom.multipliers)
         if self.m:
             outputs.update(B=eom.B_, G=eom.G_, gamma=list(eom.gamma_))
+        self.extra_outputs = tuple(extra_outputs or ())
+        outputs.update(extra_outputs or {})
         self.k = eom.k
         self.main = Compiled(base + aux_syms, outputs)
         self.x = np.zeros(len(base) + len(aux_syms))
+        self.last: dict[str, np.ndarray] = {}
 
     def solve(self, x_base: np.ndarray):
         x = self.x
@@ -366,7 +382,7 @@ class FormSystem:
                     raise SingularMatrix("dependent-velocity block")
                 x[off:off + X.size] = X.ravel()
                 off += X.size
-        out = self.main(x)
+        out = self.last = self.main(x)
         if self.k == 0 and self.m == 0:  # no freedom left: the motion is the program itself
             return np.empty(0), np.empty(0), np.array(out["r"], dtype=float)
         if self.m:

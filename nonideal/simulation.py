@@ -67,7 +67,8 @@ class Simulation:
     rtol, atol, method, max_step : optional
         Integrator settings; default from the model's ``[simulation]``.
     independent : tuple of str, optional
-        Independent coordinates for the reduced forms.
+        Independent coordinates for the reduced forms (Lagrange II: those of the first chart;
+        ``diagnostics["chart_changes"]`` counts the changes of chart, :mod:`nonideal.charts`).
     detect_jam : bool
         Watch the effective normal compliance of sliding contacts (Painleve's paradox).
     specialize : bool
@@ -423,6 +424,7 @@ class Simulation:
         residual_max = {"position": 0.0, "velocity": 0.0}
         Solver = SOLVERS[self.method]
         solver = self.solver
+        changes = solver.charts.changes if solver.charts is not None else 0
         while t < t_end:
             fun = self.rhs(mode)
             events = self.events(mode, t, y)
@@ -447,9 +449,12 @@ class Simulation:
                     raise IntegrationFailed(ode.t, mode.label(), message or "step failed",
                                             None if model.source == "<api>" else model.source)
                 t_old, t_new = ode.t_old, ode.t
+                if solver.charts is not None:  # Lagrange II: change charts at accepted states
+                    solver.charts.settle(mode, t_new, ode.y[:n], ode.y[n:2 * n])
                 h = t_new - t_old
                 tiny = tiny + 1 if h < 1e-9 * max(t_end - t0, 1e-300) else 0
                 if tiny > 2000:
+                    self._explain_failure(ode, mode)
                     raise IntegrationFailed(
                         t_new, mode.label(), "the step size collapsed below 1e-9 of the time span for "
                         "2000 steps: the right-hand side is not smooth here (a nonlinear constraint at "
@@ -559,11 +564,19 @@ class Simulation:
             "form": self.solver.form,
             "stabilization": "coordinate projection when residual > 1e-10 (relative)",
         }
+        if solver.charts is not None:
+            diagnostics["chart_changes"] = solver.charts.changes - changes
         return Trajectory.from_samples(self, samples, events_log, diagnostics, residual_max)
 
     def _explain_failure(self, ode, mode: Mode) -> None:
-        """If a sliding contact is at the edge of Painleve's paradox, say so instead."""
+        """If a sliding contact is at the edge of Painleve's paradox, or the chart of Lagrange
+        II is singular, say so instead."""
         n = self.n
+        charts = self.solver.charts
+        reason = charts.explain(mode, ode.t, ode.y[:n], ode.y[n:2 * n]) if charts is not None else None
+        if reason:
+            raise IntegrationFailed(ode.t, mode.label(), reason,
+                                    None if self.model.source == "<api>" else self.model.source)
         for name, cs in mode.contacts:
             if cs.state != SLIDE:
                 continue

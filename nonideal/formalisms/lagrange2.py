@@ -22,8 +22,10 @@ constraint preferring coordinates that enter linearly and whose partial derivati
 vanish at the model's initial state.  Each constraint is solved with ``sympy.solve``; of
 several roots the one through the model's initial state is taken (completed from the
 constraints, as the simulation does, when dependent values are not given), else the first
-real one.  The equations hold on that chart only (e.g. ``y1 = sqrt(l^2 - (x1 - x)^2)`` needs
-``y1 > 0``); :class:`FormNotApplicable` is raised when no closed-form solution exists.
+real one, or the one through the point *branch* (``derive(..., branch=)``).  The equations
+hold on that chart only (e.g. ``y1 = sqrt(l^2 - (x1 - x)^2)`` needs ``y1 > 0``); the
+simulation changes charts along the motion (:mod:`nonideal.charts`).
+:class:`FormNotApplicable` is raised when no closed-form solution exists.
 
 Without holonomic constraints to eliminate this is Lagrange's form with multipliers in the
 model's coordinates (Routh--Voss): the same numbers as ``lagrange1``.
