@@ -212,7 +212,7 @@ class Simulation:
             elif cs.state == SLIDE:
                 d = self.solver.ck.dims[c]
                 direction = cs.direction[0] if d == 1 else 1.0
-                out.append(SlipStop("stick" if d == 1 else "slip-stop", name, c, direction=direction))
+                out.append(SlipStop("slip-stop", name, c, direction=direction))
                 if self.detect_jam and not bilateral:
                     out.append(Jam("jam", name, c))
         return out
@@ -265,6 +265,7 @@ class Simulation:
                               concerned=ev.name)
         q, qd = self._project(new, t, q, qd)
         y[:n], y[n:2 * n] = q, qd
+        record["type"] = ev.outcome(mode, new)
         record["mode"] = new.label()
         return y, new, record
 
@@ -365,8 +366,11 @@ class Simulation:
         initial : mapping, optional
             Overrides of initial values.
         stop_on : set of str, optional
-            Event kinds (``"slip"``, ``"lift-off"``, ``"release"``...) that end the run at the
-            event (the last sample is the state at the event, before the switch).
+            Event types (``"slip"``, ``"stick"``, ``"reverse"``, ``"lift-off"``, ``"release"``...;
+            see :mod:`nonideal.events`) that end the run at the event (the last sample is the
+            state at the event, before the switch).  An event whose kind is listed stops
+            before the next mode is selected; the others stop when the selected switch is of
+            a listed type.
 
         Returns
         -------
@@ -484,10 +488,13 @@ class Simulation:
                         emit(te, ye, mode)  # the state at the event, before the switch
                     else:
                         next_time = self._sample_dense(dense, t_old, te, times, next_time, mode, emit)
-                    if stop_on and events[k].kind in stop_on:
+                    # stop on the kind the event watches, or on what the switch would do
+                    switched = None if stop_on and events[k].kind in stop_on else \
+                        self._switch(te, ye, mode, events[k])
+                    if switched is None or (stop_on and switched[2]["type"] in stop_on):
                         if times is not None:
                             emit(te, ye, mode)
-                        record = events[k].record(te)
+                        record = events[k].record(te) if switched is None else switched[2]
                         record["mode"] = mode.label()
                         record["stopped"] = True
                         events_log.append(record)
@@ -495,7 +502,7 @@ class Simulation:
                         times = None
                         stopped = True
                         break
-                    y, new_mode, record = self._switch(te, ye, mode, events[k])
+                    y, new_mode, record = switched
                     events_log.append(record)
                     if len(events_log) > self.max_events:
                         raise IntegrationFailed(te, mode.label(), f"more than {self.max_events} mode "

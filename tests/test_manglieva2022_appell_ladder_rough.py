@@ -95,7 +95,7 @@ def test_physical_normal_forces_depend_on_friction_constraint_parts_do_not(alpha
 
 def test_stop_slide_back_and_release_events(model):
     tr = simulate(model)
-    assert [(e["type"], e["contact"]) for e in tr.events] == [("stick", "wall"), ("lift-off", "wall")]
+    assert [(e["type"], e["contact"]) for e in tr.events] == [("reverse", "wall"), ("lift-off", "wall")]
     assert tr.events[0]["mode"].startswith("wall:slide-, floor:slide+")       # reverses, no stick
     assert tr.events[0]["t"] == pytest.approx(T_STOP, rel=1e-10)
     assert tr.events[1]["t"] == pytest.approx(T_RELEASE, rel=1e-10)
@@ -186,7 +186,7 @@ def test_cli_simulate_and_evaluate_json(tmp_path):
     proc = _cli("simulate", NAME, "--json", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     d = json.loads(proc.stdout)
-    assert [(e["type"], e["contact"]) for e in d["events"]] == [("stick", "wall"), ("lift-off", "wall")]
+    assert [(e["type"], e["contact"]) for e in d["events"]] == [("reverse", "wall"), ("lift-off", "wall")]
     assert d["events"][1]["t"] == pytest.approx(T_RELEASE, rel=1e-9)
     assert d["contacts"]["wall"]["mode"][0] == "slide+" and d["contacts"]["wall"]["mode"][-1] == "separated"
     assert np.all(np.diff(d["energy"]["friction_work"]) <= 1e-12)
