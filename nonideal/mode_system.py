@@ -297,7 +297,9 @@ class ModeFunction:
                 if cs.state in (SLIDE, SMOOTH):
                     U = list(cd.U)
                     law = cd.law
-                    if cs.state == SMOOTH:
+                    if cs.state == SMOOTH and law.exact:
+                        shape = [zero] * len(U)  # a frictionless contact
+                    elif cs.state == SMOOTH:
                         if not isinstance(law, RegularizedCoulomb):
                             raise _NotCompiled  # the epsilon-linear law is piecewise
                         scale = se.sqrt(sum((u * u for u in U), zero) + law.eps ** 2)

@@ -1,8 +1,10 @@
 """Modes of a hybrid mechanical system and the motion in a mode.
 
 A :class:`Mode` says which unilateral constraints are held and, for every contact, its
-:class:`ContactState`: separated, sticking (rolling), sliding in a direction, or -- for the
-regularized friction laws -- smooth sliding.  :class:`ModeSolver` evaluates the motion in a
+:class:`ContactState`: separated, sticking (rolling), sliding in a direction, or "smooth" -- the
+one touching state of a contact without a sticking mode: sliding under a regularized friction
+law, or touching without friction (Coulomb's law with ``mu = mu_static = 0`` at the parameters
+of the solver, :attr:`ModeSolver.frictionless`).  :class:`ModeSolver` evaluates the motion in a
 mode at a state: the accelerations and the multiplier of every active row, in the chosen
 formalism.  Lagrange I assembles the rows numerically from the compiled kernels (no
 recompilation when the mode changes); the other forms are derived symbolically once per mode
@@ -46,6 +48,7 @@ class ContactState:
     Attributes
     ----------
     state : {"separated", "stick", "slide", "smooth"}
+        "smooth": touching, for a regularized law or a frictionless contact (no direction).
     direction : tuple of float
         Sliding: ``(+1,)`` or ``(-1,)`` for one slip component (the sign of ``U``); for two
         components the unit direction used only while ``|U| ~ 0`` at the onset of sliding
@@ -251,6 +254,12 @@ class ModeSolver:
     specialize : bool
         Lagrange I: use the compiled system of a mode once its structure is hot
         (:class:`~nonideal.mode_system.ModeFunction`); ``False``: always the index path.
+
+    Attributes
+    ----------
+    frictionless : frozenset of int
+        The contacts with Coulomb's law whose ``mu`` and ``mu_static`` are zero at *params*:
+        they touch in the single state "smooth" (no sticking, no slip events).
     """
 
     def __init__(self, kernel: Kernel, params: np.ndarray, form: str = "lagrange1",
@@ -276,6 +285,7 @@ class ModeSolver:
         self.x = kernel.layout.make(params)
         self.n = kernel.n
         self.laws = [c.law for c in self.ck.data]
+        self.frictionless = self.ck.frictionless(params) if self.ck else frozenset()
         self.reference: dict[int, np.ndarray] = {}
         # one output buffer for both kernels: the Lagrange I fast path gathers from it
         self.z = np.zeros(kernel.dynamics.size + self.ck.size)
@@ -323,8 +333,9 @@ class ModeSolver:
     def friction_shape(self, c: int, cs: ContactState, U: np.ndarray,
                        qd: np.ndarray | None = None) -> np.ndarray:
         """The vector ``s`` with friction ``F = -sigma mu N s`` (unit slip direction for
-        Coulomb sliding; the regularized shape for the smooth laws).  *qd*: the velocities of
-        the state (default: those of the last :meth:`input`), which scale the test ``|U| ~ 0``."""
+        Coulomb sliding; the regularized shape for the smooth laws, zero for a frictionless
+        contact).  *qd*: the velocities of the state (default: those of the last
+        :meth:`input`), which scale the test ``|U| ~ 0``."""
         law = self.laws[c]
         if cs.state == SMOOTH:
             nrm = float(np.sqrt(U @ U))
@@ -332,6 +343,7 @@ class ModeSolver:
                 return U / np.sqrt(nrm * nrm + law.eps * law.eps)
             if isinstance(law, LinearizedCoulomb):
                 return U / law.eps if nrm <= law.eps else U / nrm
+            return np.zeros(len(U))  # Coulomb's law: a frictionless contact
         if len(U) == 1:
             return np.array(cs.direction, dtype=float)
         nrm = math.sqrt(U @ U)
