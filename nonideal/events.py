@@ -40,7 +40,9 @@ normal-sign   a bilateral contact's normal force changed sign (and so its fricti
 ============  =====================================================================
 
 When the contact's state did not change (another contact's did), the record keeps the
-event's kind.  Constraint events are recorded with their kind (``release``, ``contact``).
+event's kind.  Constraint events are recorded with their kind (``release``, ``contact``).  When
+a switch changes other contacts too (the legs of a table starting to slip together), the record
+lists every change, ``changes = {contact: type}``.
 """
 
 from __future__ import annotations

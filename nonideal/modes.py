@@ -155,6 +155,12 @@ class Solution:
     Gm, gammam, Bm : ndarray -- the assembled rows of the mode
     contacts : dict name -> ContactForce
     friction : ndarray, shape (n_q,) -- generalized friction force ``sum_k W_k^T F_k``
+    direct : dict name -> float -- the multipliers the form computes itself
+    particular : bool -- the rows are dependent and ``values`` is the minimum-norm solution
+        (``ModeSolver.solve(..., distribute=False)``), not the reported distribution
+
+    For a mode with dependent rows (statically indeterminate reactions) ``values`` is the
+    admissible distribution with the widest margins (:mod:`nonideal.indeterminate`).
     """
 
     qdd: np.ndarray
@@ -173,6 +179,7 @@ class Solution:
     contacts: dict[str, ContactForce] = field(default_factory=dict)
     friction: np.ndarray | None = None
     direct: dict[str, float] = field(default_factory=dict)
+    particular: bool = False
 
     def multiplier(self, row: int) -> float:
         return float(self.multipliers[self.rows.index(row)]) if row in self.rows else 0.0
@@ -410,6 +417,9 @@ class ModeSolver:
 
     # ------------------------------------------------------------------ reduced forms
     def _symbolic_rows(self, mode: Mode):
+        """The symbolic rows of *mode* (in layout order, without the ideal rows that repeat the
+        others: :attr:`ModeSystem.dropped <nonideal.mode_system.ModeSystem.dropped>`) and the
+        names of the sliding directions' inputs."""
         dyn = dynamics_of(self.model)
         rows = [self.kernel.rows[i] for i in self.rows(mode)]
         extra = []
@@ -421,7 +431,8 @@ class ModeSolver:
             rows += new
             if state == "slide":
                 extra += [f"s[{name},{k + 1}]" for k in range(self.ck.dims[c])]
-        return rows, extra
+        dropped = self.system(mode).dropped
+        return [r for j, r in enumerate(rows) if j not in dropped], extra
 
     def form_system(self, mode: Mode, independent=None) -> FormSystem:
         """The compiled form for the structure of *mode* (and a choice of independent
@@ -506,7 +517,10 @@ class ModeSolver:
                 Gm = np.zeros((0, self.n))
             else:
                 Gm, gm, Bm = self.assemble(mode, layout, out, cout)
+                dependent = self.system(mode).dependent(Gm)
                 if self.form == "lagrange1":
+                    if dependent:
+                        raise SingularMatrix("dependent rows")
                     qdd, mu = solve_saddle(M, F, Bm, Gm, gm)
                     return qdd, mu, layout, out, cout
             fs = self._current_form(mode, Gm, layout)
@@ -532,8 +546,13 @@ class ModeSolver:
                 vals.extend(self.friction_shape(c, cs, cout["U"][o:o + d]))
         return np.array(vals, dtype=float)
 
-    def solve(self, t: float, q: np.ndarray, qd: np.ndarray, mode: Mode) -> Solution:
+    def solve(self, t: float, q: np.ndarray, qd: np.ndarray, mode: Mode, distribute: bool = True) -> Solution:
         """Accelerations, multipliers, contact forces at a state.
+
+        The multipliers of a mode with dependent rows (statically indeterminate) are the
+        admissible distribution with the widest margins
+        (:func:`~nonideal.indeterminate.best_distribution`); with ``distribute=False`` the
+        minimum-norm one, which is cheaper (``Solution.particular``: for the accelerations).
 
         Raises
         ------
@@ -561,10 +580,11 @@ class ModeSolver:
             Gm, gm, Bm = self.assemble(mode, layout, out, cout)
         else:
             Gm, gm, Bm = np.zeros((0, n)), np.zeros(0), np.zeros((n, 0))
-        return self._solution(mode, layout, qdd, values, out, cout, Gm, gm, Bm)
+        return self._solution(mode, layout, qdd, values, out, cout, Gm, gm, Bm, distribute)
 
-    def _solution(self, mode, layout, qdd, values, out, cout, Gm, gm, Bm) -> Solution:
-        """Package an evaluation (buffers copied) as a :class:`Solution`."""
+    def _solution(self, mode, layout, qdd, values, out, cout, Gm, gm, Bm, distribute=True) -> Solution:
+        """Package an evaluation (buffers copied) as a :class:`Solution`; *distribute*: see
+        :meth:`solve`."""
         n, m_all = self.n, self.kernel.m
         qdd = np.array(qdd, dtype=float)
         M, F = out["M"].copy(), out["F"].copy()
@@ -582,11 +602,20 @@ class ModeSolver:
         else:
             values = np.array(values, dtype=float)
             direct = {r.name: float(v) for r, v in zip(layout, values)}
+        particular = bool(layout) and self.system(mode).dependent(Gm)
+        if particular and distribute:
+            # statically indeterminate: the admissible distribution with the widest margins; a
+            # form's own multipliers are kept for the rows they determine
+            from .indeterminate import best_distribution
+
+            best = best_distribution(self, mode, layout, Bm, M @ qdd - F, cout)
+            values, particular = best.values, False
+            direct = {k: v for k, v in direct.items() if k in best.determinate}
         rows = [r.index for r in layout if r.kind == "constraint"]
         mults = np.array([v for r, v in zip(layout, values) if r.kind == "constraint"])
         contacts, friction = self._contact_forces(mode, layout, values, cout, qdd)
         return Solution(qdd, rows, mults, layout, values, M, F, G, gamma, B, Gm, gm, Bm,
-                        contacts, friction, direct)
+                        contacts, friction, direct, particular)
 
     def friction_force(self, mode: Mode, layout: list[RowSpec], values: np.ndarray, cout) -> np.ndarray:
         """Generalized friction force ``sum_c W_c^T F_c`` from the multipliers of the mode's rows
@@ -634,7 +663,8 @@ class ModeSolver:
 def _minimum_norm(M, F, B, G, gamma):
     """Redundant contacts (a body resting on more supports than it needs, both ends of a flat
     rod sticking): the accelerations are unique but the contact forces are statically
-    indeterminate.  Take the minimum-norm forces, if the system is consistent."""
+    indeterminate.  The accelerations and the minimum-norm forces, if the system is consistent
+    (:func:`~nonideal.indeterminate.best_distribution` then finds the forces reported)."""
     n, m = M.shape[0], G.shape[0]
     K = np.zeros((n + m, n + m))
     K[:n, :n] = M

@@ -28,7 +28,7 @@ from scipy.optimize import brentq
 
 from .consistency import complete_state, project_state
 from .errors import IntegrationFailed, ModelError, PainleveParadox
-from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch
+from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, transition
 from .model import Model
 from .mode_system import Motion
 from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, ModeSolver
@@ -266,6 +266,10 @@ class Simulation:
         q, qd = self._project(new, t, q, qd)
         y[:n], y[n:2 * n] = q, qd
         record["type"] = ev.outcome(mode, new)
+        changes = {name: kind for (name, a), (_, b) in zip(mode.contacts, new.contacts)
+                   if (kind := transition(a, b))}
+        if set(changes) - {ev.name}:
+            record["changes"] = changes
         record["mode"] = new.label()
         return y, new, record
 

@@ -86,11 +86,15 @@ multiplier, so ``compare_forms`` in the physical representation compares Lagrang
 (bit-identical) and only the Gauss solver is independent.  The non-trivial cross-check is the
 seed's representation (``--friction painleve``: both contacts ideal, friction as ``M V mu``,
 mu from the split of the physical reaction): every form eliminates the contacts there and must
-give the physical accelerations (``run``: 3e-15).  Both ends sticking cannot be cross-checked:
-the two no-slip rows are dependent (both say alpha' = 0) and the friction forces of a ladder at
-rest are statically indeterminate (the library holds it with one end at its friction limit).
-A stronger push (alpha0 = 0.7, alpha0' = -1.2) stops the ladder below alpha_lim and static
-friction holds it (tested).
+give the physical accelerations (``run``: 3e-15).  Both ends sticking, the rows are dependent
+(four on three coordinates: both no-slip rows say alpha' = 0) and the reactions of a ladder at
+rest are statically indeterminate: it stays at rest iff some distribution satisfies both
+friction cones, and the library reports the one with the widest margins
+(:mod:`nonideal.indeterminate`); at alpha = 0.4 (tested) F_A = 0, R_A^n = (m g/2) tan(alpha),
+R_B^n = m g, F_B = -R_A^n, the wall's margin f_A R_A^n binding (steeper, F_A > 0 balances the
+two margins).  The forms agree on the accelerations (the reduced ones are derived without the
+dependent row).  A stronger push (alpha0 = 0.7,
+alpha0' = -1.2) stops the ladder below alpha_lim and static friction holds it (tested).
 """
 
 from __future__ import annotations
