@@ -245,7 +245,7 @@ def clear_library_caches() -> None:
 
 
 def ours_measure(traj, exact: dict) -> dict:
-    ev = [e for e in traj.events if e["type"] in ("slip-stop", "stick")]
+    ev = [e for e in traj.events if e["type"] == "stick"]
     t_ev = float(ev[0]["t"]) if ev else math.nan
     qd, q = traj.qd[-1], traj.q[-1]
     err = errors(exact, t_ev, qd[:2], qd[3:6], q[:2])

@@ -29,6 +29,7 @@ class ContactKernel:
         self.dims = [len(c.U) for c in self.data]
         self.offsets = list(np.cumsum([0] + self.dims[:-1])) if self.data else []
         self.n = dyn.n
+        self.params = dyn.params
         symbols = [dyn.t] + dyn.q + dyn.qd + dyn.params
         if not self.data:
             self.fn = None
@@ -55,6 +56,28 @@ class ContactKernel:
 
     def __call__(self, x: np.ndarray) -> dict:
         return self.fn(x)
+
+    def frictionless(self, params: np.ndarray) -> frozenset[int]:
+        """The contacts with Coulomb's law whose ``mu`` and ``mu_static`` vanish identically
+        (whatever the state) at the parameter values *params*, shape (n_parameters,).
+
+        Examples
+        --------
+        >>> from nonideal import gallery
+        >>> from nonideal.numeric import parameter_vector
+        >>> model = gallery.load("block-on-incline")
+        >>> ck = contact_kernel_of(model)
+        >>> ck.frictionless(parameter_vector(model))
+        frozenset()
+        >>> ck.frictionless(parameter_vector(model, {"mu": 0, "mu_s": 0}))
+        frozenset({0})
+        """
+        values = {p: float(v) for p, v in zip(self.params, params)}
+
+        def zero(expr) -> bool:
+            value = expr.subs(values)
+            return value.is_Number and float(value) == 0.0
+        return frozenset(c for c, d in enumerate(self.data) if d.law.exact and zero(d.mu) and zero(d.mu_s))
 
     def slip(self, out: dict, c: int) -> np.ndarray:
         o = self.offsets[c]

@@ -15,7 +15,7 @@ from .consistency import complete_state, random_admissible_states
 from .errors import FormNotApplicable
 from .formalisms import FORMS
 from .model import Model
-from .modes import SLIDE, STICK, ContactState, Mode, ModeSolver
+from .modes import SLIDE, SMOOTH, STICK, ContactState, Mode, ModeSolver
 from .numeric import kernel_of, parameter_vector
 
 __all__ = ["compare_forms", "CrossCheck"]
@@ -53,6 +53,9 @@ def _contact_mode(solver: ModeSolver, t, q, qd, held, contact_state: str) -> Mod
     cout = solver.ck(solver.input(t, q, qd))
     states = []
     for c, name in enumerate(solver.ck.names):
+        if c in solver.frictionless:
+            states.append((name, ContactState(SMOOTH)))
+            continue
         if contact_state == "stick":
             states.append((name, ContactState(STICK)))
             continue
@@ -68,7 +71,8 @@ def compare_forms(model: Model, forms=None, count: int = 20, seed: int = 0,
     admissible states.
 
     Contacts are taken as touching (their gaps closed) and, by *contact_state*, either
-    sliding along the current slip (``"slide"``) or sticking (``"stick"``).  Unilateral
+    sliding along the current slip (``"slide"``) or sticking (``"stick"``); frictionless ones
+    in their one touching state ("smooth").  Unilateral
     constraints are held: all of them, or the names in *held*.
 
     Returns

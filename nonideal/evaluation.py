@@ -218,7 +218,11 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
         ``M V mu`` in the seed's notation: it accelerates along possible velocities only).
         The parts of all rows add up to the total reaction; a single row's parts need not add
         up to its own physical reaction, because friction at a contact changes how the other
-        constraints' physical reactions are distributed (seed 000, (1.14)-(1.17)).
+        constraints' physical reactions are distributed (seed 000, (1.14)-(1.17)).  Where the
+        reactions are statically indeterminate (dependent rows: a ladder sticking at a rough
+        wall and floor), the multipliers and contact forces are the admissible distribution
+        with the widest margins, the least-norm one among several (:mod:`nonideal.indeterminate`),
+        and a sticking contact's ``margin`` is its margin in that distribution.
     """
     from .switching import select_mode, validate_contacts
 

@@ -22,6 +22,27 @@ event                   value                                 in mode
 ======================  ====================================  =============================
 
 ``row`` is the kernel row of a constraint event and the index of the contact of a contact event.
+
+The ``kind`` of an event is what it watches; the ``type`` it is recorded with says what happened
+to its contact, read from the states before and after the switch (:func:`transition`):
+
+============  =====================================================================
+type          what happened
+============  =====================================================================
+touch         a separated contact closed (whatever the impact left: the record has
+              the mode after it)
+lift-off      a touching contact separated
+slip          a sticking contact started sliding
+stick         a sliding contact started sticking (rolling)
+reverse       a sliding contact's slip changed direction without sticking (one
+              component: its sign; two: it passed through or near zero)
+normal-sign   a bilateral contact's normal force changed sign (and so its friction)
+============  =====================================================================
+
+When the contact's state did not change (another contact's did), the record keeps the
+event's kind.  Constraint events are recorded with their kind (``release``, ``contact``).  When
+a switch changes other contacts too (the legs of a table starting to slip together), the record
+lists every change, ``changes = {contact: type}``.
 """
 
 from __future__ import annotations
@@ -29,7 +50,36 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["Event", "Release", "Touch", "ContactTouch", "Lift", "SlipStart", "SlipStop", "Jam"]
+from .modes import SEPARATED, SLIDE, STICK, ContactState
+
+__all__ = ["Event", "Release", "Touch", "ContactTouch", "Lift", "SlipStart", "SlipStop", "Jam",
+           "transition"]
+
+
+def transition(before: ContactState, after: ContactState) -> str | None:
+    """What happened to a contact whose state went from *before* to *after* (the types of the
+    module docstring), or ``None`` when its state did not change.
+
+    Examples
+    --------
+    >>> transition(ContactState(SLIDE, (1.0,)), ContactState(SLIDE, (-1.0,)))
+    'reverse'
+    >>> transition(ContactState(SLIDE, (1.0,)), ContactState(STICK))
+    'stick'
+    """
+    if before.state == SEPARATED:
+        return None if after.state == SEPARATED else "touch"
+    if after.state == SEPARATED:
+        return "lift-off"
+    if after.state == STICK:
+        return None if before.state == STICK else "stick"
+    if before.state == STICK:
+        return "slip"
+    if before.state == SLIDE == after.state and before.direction != after.direction:
+        return "reverse"
+    if before.sigma != after.sigma:
+        return "normal-sign"
+    return None
 
 
 @dataclass(frozen=True)
@@ -45,6 +95,10 @@ class Event:
 
     def record(self, t: float) -> dict:
         return {"t": t, "type": self.kind, "constraint": self.name}
+
+    def outcome(self, before, after) -> str:
+        """The type to record for a switch from mode *before* to mode *after*."""
+        return self.kind
 
 
 @dataclass(frozen=True)
@@ -69,6 +123,10 @@ class Touch(Event):
 class ContactEvent(Event):
     def record(self, t: float) -> dict:
         return {"t": t, "type": self.kind, "contact": self.name}
+
+    def outcome(self, before, after) -> str:
+        """What happened to the event's contact (:func:`transition`), else the event's kind."""
+        return transition(before.contact(self.name), after.contact(self.name)) or self.kind
 
 
 @dataclass(frozen=True)
@@ -108,6 +166,13 @@ class SlipStop(ContactEvent):
     sliding direction (one component) or the slip direction at the start of the step (two)."""
 
     direction: float = 1.0
+
+    def outcome(self, before, after) -> str:
+        """``stick``, or ``reverse`` when the contact goes on sliding (with two components the
+        sliding states need not carry a direction to compare), or what else happened."""
+        if after.contact(self.name).state == SLIDE:
+            return "reverse"
+        return super().outcome(before, after)
 
     def value(self, motion) -> float:
         U = motion.slip(self.row)

@@ -254,6 +254,10 @@ def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = 
             notes.append(f"contact '{name}': sticking (the multipliers of its slip rows are the "
                          "friction force)")
             continue
+        if st == "smooth" and dyn.contacts[c].law.exact:   # the state of a frictionless contact
+            rows += dyn.contact_rows(c, "slide", 1, [se.Integer(0)] * d)
+            notes.append(f"contact '{name}': touching without friction (smooth)")
+            continue
         if st in ("slide+", "slide-") and d != 1 or st == "slide" and d != 2:
             raise FormNotApplicable(f"--contact {name}: '{st}' does not fit {d} slip component(s); "
                                     "use slide+/slide- for one, slide for two")

@@ -67,6 +67,9 @@ class ModeSystem:
         Layout position of each active kernel row / of each touching contact's normal row.
     tangent_cols : dict
         Layout positions of a sticking contact's slip rows (their multipliers: the friction).
+    dropped : frozenset of int
+        Layout positions of the ideal rows that repeat what the others impose, when the rows
+        are dependent (:meth:`dependent`); the reduced forms are derived without them.
 
     Notes
     -----
@@ -98,6 +101,12 @@ class ModeSystem:
             if r.kind == "tangent":
                 self.tangent_cols.setdefault(r.index, []).append(j)
         self.tangent = [j for cols in self.tangent_cols.values() for j in cols]
+        # rows whose reaction column is their gradient: dropping a dependent one keeps the motion
+        self._ideal = [r.kind == "tangent" or (r.kind == "normal" and mode.contacts[r.index][1].state == STICK)
+                       or (r.kind == "constraint" and kernel.rows[r.index].reaction_kind == "ideal")
+                       for r in layout]
+        self._dependent = None if m else False
+        self.dropped: frozenset[int] = frozenset()
         self.contact_rows = m > len(self.row_col)
         #: active kernel rows with a position level / a velocity level (the drift check)
         self.drift_rows = kernel.kinematic_level(rows)
@@ -169,10 +178,42 @@ class ModeSystem:
                 K[col] -= fcol
                 if powers:
                     fq.append(fcol @ qd)
-        return K.reshape((self.s, self.s), order="F"), r, fq
+        K = K.reshape((self.s, self.s), order="F")
+        if self._dependent is None:
+            self.dependent(K[n:, :n])
+        return K, r, fq
+
+    def dependent(self, G: np.ndarray) -> bool:
+        """Whether the rows of the mode are dependent, so that the multipliers are statically
+        indeterminate (a ladder sticking at a rough wall and a rough floor: four rows on three
+        coordinates; a table on three legs sticking: nine on six) -- decided once, from the rows
+        *G* (shape (m, n)) of the first state that asks (the rank of a mode's rows is the same
+        at its admissible states but for singular configurations).  Also sets
+        :attr:`dropped`.  A dependent system is never factored: :meth:`factor` raises
+        :class:`~nonideal.numeric.SingularMatrix`, and the general path
+        (:meth:`ModeSolver.accelerations <nonideal.modes.ModeSolver.accelerations>`) solves it."""
+        if self._dependent is None:
+            # keep the non-ideal rows first, then every ideal row that adds to the rank
+            order = [j for j in range(self.m) if not self._ideal[j]] + [j for j in range(self.m) if self._ideal[j]]
+            tol = DEPENDENT_RTOL * max(1.0, float(np.max(np.abs(G))))
+            keep: list[int] = []
+            for j in order:
+                if np.linalg.matrix_rank(G[keep + [j]], tol=tol) == len(keep) + 1:
+                    keep.append(j)
+            self._dependent = len(keep) < self.m
+            self.dropped = frozenset(j for j in range(self.m) if j not in keep and self._ideal[j])
+        return self._dependent
 
     def factor(self, K: np.ndarray, r: np.ndarray):
-        """``[q''; -lambda]`` and the LU factors (``None`` without rows: Cholesky of M)."""
+        """``[q''; -lambda]`` and the LU factors (``None`` without rows: Cholesky of M).
+
+        Raises
+        ------
+        SingularMatrix
+            A singular system, or one with dependent rows (:meth:`dependent`), whose LU
+            factorization would give arbitrary multipliers."""
+        if self._dependent:
+            raise SingularMatrix("dependent rows: statically indeterminate multipliers")
         if self.m == 0:
             _, sol, info = _dposv(K, r)
             if info == 0:
@@ -223,7 +264,7 @@ class ModeSystem:
         """The :class:`ModeFunction` of this structure once it has been evaluated
         :data:`SPECIALIZE_CALLS` times by :meth:`solve_with_powers` (compiled then, once), or
         None (before that, without contact rows, or for a law it does not compile)."""
-        if self.function is None and self.calls >= SPECIALIZE_CALLS and self.contact_rows:
+        if self.function is None and self.calls >= SPECIALIZE_CALLS and self.contact_rows and not self._dependent:
             self.function = ModeFunction.of(kernel, self, mode)
         return self.function or None
 
@@ -237,6 +278,11 @@ class ModeSystem:
         inv = _dgetrs(lu, piv, e)[0][i]
         return -1.0 / inv if inv != 0 else math.inf
 
+
+DEPENDENT_RTOL = 1e-7
+"""Rows whose singular values fall below this (relative to the largest entry) are dependent:
+well above the rounding of rows that are exactly dependent at admissible states, well below
+the conditioning of a well-posed mode."""
 
 SPECIALIZE_CALLS = 400
 """Right-hand-side evaluations of a mode structure after which :class:`ModeFunction` compiles
@@ -297,7 +343,9 @@ class ModeFunction:
                 if cs.state in (SLIDE, SMOOTH):
                     U = list(cd.U)
                     law = cd.law
-                    if cs.state == SMOOTH:
+                    if cs.state == SMOOTH and law.exact:
+                        shape = [zero] * len(U)  # a frictionless contact
+                    elif cs.state == SMOOTH:
                         if not isinstance(law, RegularizedCoulomb):
                             raise _NotCompiled  # the epsilon-linear law is piecewise
                         scale = se.sqrt(sum((u * u for u in U), zero) + law.eps ** 2)
@@ -467,7 +515,7 @@ class Motion:
                 except SingularMatrix:
                     pass
             if self._sol is None:  # other forms, or a singular system: the general path
-                self._solution = self.solver.solve(self.t, self.q, self.qd, self.mode)
+                self._solution = self.solver.solve(self.t, self.q, self.qd, self.mode, distribute=False)
         return self._sol
 
     def _solve(self) -> tuple:
@@ -487,9 +535,12 @@ class Motion:
 
     @property
     def values(self) -> np.ndarray:
-        """Multipliers of the mode's rows (``system.layout`` order)."""
+        """Multipliers of the mode's rows (``system.layout`` order; for dependent rows the
+        admissible distribution with the widest margins, computed only when asked for)."""
         if self._values is None:
             sol = self._solved()
+            if sol is None and self._solution.particular:
+                self._solution = self.solver.solve(self.t, self.q, self.qd, self.mode)
             self._values = -sol[self.n:] if sol is not None else self._solution.values
         return self._values
 

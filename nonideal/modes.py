@@ -1,8 +1,10 @@
 """Modes of a hybrid mechanical system and the motion in a mode.
 
 A :class:`Mode` says which unilateral constraints are held and, for every contact, its
-:class:`ContactState`: separated, sticking (rolling), sliding in a direction, or -- for the
-regularized friction laws -- smooth sliding.  :class:`ModeSolver` evaluates the motion in a
+:class:`ContactState`: separated, sticking (rolling), sliding in a direction, or "smooth" -- the
+one touching state of a contact without a sticking mode: sliding under a regularized friction
+law, or touching without friction (Coulomb's law with ``mu = mu_static = 0`` at the parameters
+of the solver, :attr:`ModeSolver.frictionless`).  :class:`ModeSolver` evaluates the motion in a
 mode at a state: the accelerations and the multiplier of every active row, in the chosen
 formalism.  Lagrange I assembles the rows numerically from the compiled kernels (no
 recompilation when the mode changes); the other forms are derived symbolically once per mode
@@ -47,6 +49,7 @@ class ContactState:
     Attributes
     ----------
     state : {"separated", "stick", "slide", "smooth"}
+        "smooth": touching, for a regularized law or a frictionless contact (no direction).
     direction : tuple of float
         Sliding: ``(+1,)`` or ``(-1,)`` for one slip component (the sign of ``U``); for two
         components the unit direction used only while ``|U| ~ 0`` at the onset of sliding
@@ -153,6 +156,12 @@ class Solution:
     Gm, gammam, Bm : ndarray -- the assembled rows of the mode
     contacts : dict name -> ContactForce
     friction : ndarray, shape (n_q,) -- generalized friction force ``sum_k W_k^T F_k``
+    direct : dict name -> float -- the multipliers the form computes itself
+    particular : bool -- the rows are dependent and ``values`` is the minimum-norm solution
+        (``ModeSolver.solve(..., distribute=False)``), not the reported distribution
+
+    For a mode with dependent rows (statically indeterminate reactions) ``values`` is the
+    admissible distribution with the widest margins (:mod:`nonideal.indeterminate`).
     """
 
     qdd: np.ndarray
@@ -171,6 +180,7 @@ class Solution:
     contacts: dict[str, ContactForce] = field(default_factory=dict)
     friction: np.ndarray | None = None
     direct: dict[str, float] = field(default_factory=dict)
+    particular: bool = False
 
     def multiplier(self, row: int) -> float:
         return float(self.multipliers[self.rows.index(row)]) if row in self.rows else 0.0
@@ -255,6 +265,12 @@ class ModeSolver:
     specialize : bool
         Lagrange I: use the compiled system of a mode once its structure is hot
         (:class:`~nonideal.mode_system.ModeFunction`); ``False``: always the index path.
+
+    Attributes
+    ----------
+    frictionless : frozenset of int
+        The contacts with Coulomb's law whose ``mu`` and ``mu_static`` are zero at *params*:
+        they touch in the single state "smooth" (no sticking, no slip events).
     """
 
     def __init__(self, kernel: Kernel, params: np.ndarray, form: str = "lagrange1",
@@ -286,6 +302,7 @@ class ModeSolver:
         self.x = kernel.layout.make(params)
         self.n = kernel.n
         self.laws = [c.law for c in self.ck.data]
+        self.frictionless = self.ck.frictionless(params) if self.ck else frozenset()
         self.reference: dict[int, np.ndarray] = {}
         # one output buffer for both kernels: the Lagrange I fast path gathers from it
         self.z = np.zeros(kernel.dynamics.size + self.ck.size)
@@ -333,8 +350,9 @@ class ModeSolver:
     def friction_shape(self, c: int, cs: ContactState, U: np.ndarray,
                        qd: np.ndarray | None = None) -> np.ndarray:
         """The vector ``s`` with friction ``F = -sigma mu N s`` (unit slip direction for
-        Coulomb sliding; the regularized shape for the smooth laws).  *qd*: the velocities of
-        the state (default: those of the last :meth:`input`), which scale the test ``|U| ~ 0``."""
+        Coulomb sliding; the regularized shape for the smooth laws, zero for a frictionless
+        contact).  *qd*: the velocities of the state (default: those of the last
+        :meth:`input`), which scale the test ``|U| ~ 0``."""
         law = self.laws[c]
         if cs.state == SMOOTH:
             nrm = float(np.sqrt(U @ U))
@@ -342,6 +360,7 @@ class ModeSolver:
                 return U / np.sqrt(nrm * nrm + law.eps * law.eps)
             if isinstance(law, LinearizedCoulomb):
                 return U / law.eps if nrm <= law.eps else U / nrm
+            return np.zeros(len(U))  # Coulomb's law: a frictionless contact
         if len(U) == 1:
             return np.array(cs.direction, dtype=float)
         nrm = math.sqrt(U @ U)
@@ -408,6 +427,9 @@ class ModeSolver:
 
     # ------------------------------------------------------------------ reduced forms
     def _symbolic_rows(self, mode: Mode):
+        """The symbolic rows of *mode* (in layout order, without the ideal rows that repeat the
+        others: :attr:`ModeSystem.dropped <nonideal.mode_system.ModeSystem.dropped>`) and the
+        names of the sliding directions' inputs."""
         dyn = dynamics_of(self.model)
         rows = [self.kernel.rows[i] for i in self.rows(mode)]
         extra = []
@@ -419,7 +441,8 @@ class ModeSolver:
             rows += new
             if state == "slide":
                 extra += [f"s[{name},{k + 1}]" for k in range(self.ck.dims[c])]
-        return rows, extra
+        dropped = self.system(mode).dropped
+        return [r for j, r in enumerate(rows) if j not in dropped], extra
 
     def form_system(self, mode: Mode, independent=None) -> FormSystem:
         """The compiled form for the structure of *mode* (and a choice of independent
@@ -518,7 +541,10 @@ class ModeSolver:
                 Gm = np.zeros((0, self.n))
             else:
                 Gm, gm, Bm = self.assemble(mode, layout, out, cout)
+                dependent = self.system(mode).dependent(Gm)
                 if self.form == "lagrange1":
+                    if dependent:
+                        raise SingularMatrix("dependent rows")
                     qdd, mu = solve_saddle(M, F, Bm, Gm, gm)
                     return qdd, mu, layout, out, cout
             fs = self._current_form(mode, Gm, layout)
@@ -566,8 +592,13 @@ class ModeSolver:
                 vals.extend(self.friction_shape(c, cs, cout["U"][o:o + d]))
         return np.array(vals, dtype=float)
 
-    def solve(self, t: float, q: np.ndarray, qd: np.ndarray, mode: Mode) -> Solution:
+    def solve(self, t: float, q: np.ndarray, qd: np.ndarray, mode: Mode, distribute: bool = True) -> Solution:
         """Accelerations, multipliers, contact forces at a state.
+
+        The multipliers of a mode with dependent rows (statically indeterminate) are the
+        admissible distribution with the widest margins
+        (:func:`~nonideal.indeterminate.best_distribution`); with ``distribute=False`` the
+        minimum-norm one, which is cheaper (``Solution.particular``: for the accelerations).
 
         Raises
         ------
@@ -595,10 +626,11 @@ class ModeSolver:
             Gm, gm, Bm = self.assemble(mode, layout, out, cout)
         else:
             Gm, gm, Bm = np.zeros((0, n)), np.zeros(0), np.zeros((n, 0))
-        return self._solution(mode, layout, qdd, values, out, cout, Gm, gm, Bm)
+        return self._solution(mode, layout, qdd, values, out, cout, Gm, gm, Bm, distribute)
 
-    def _solution(self, mode, layout, qdd, values, out, cout, Gm, gm, Bm) -> Solution:
-        """Package an evaluation (buffers copied) as a :class:`Solution`."""
+    def _solution(self, mode, layout, qdd, values, out, cout, Gm, gm, Bm, distribute=True) -> Solution:
+        """Package an evaluation (buffers copied) as a :class:`Solution`; *distribute*: see
+        :meth:`solve`."""
         n, m_all = self.n, self.kernel.m
         qdd = np.array(qdd, dtype=float)
         M, F = out["M"].copy(), out["F"].copy()
@@ -616,11 +648,20 @@ class ModeSolver:
         else:
             values = np.array(values, dtype=float)
             direct = {r.name: float(v) for r, v in zip(layout, values)}
+        particular = bool(layout) and self.system(mode).dependent(Gm)
+        if particular and distribute:
+            # statically indeterminate: the admissible distribution with the widest margins; a
+            # form's own multipliers are kept for the rows they determine
+            from .indeterminate import best_distribution
+
+            best = best_distribution(self, mode, layout, Bm, M @ qdd - F, cout)
+            values, particular = best.values, False
+            direct = {k: v for k, v in direct.items() if k in best.determinate}
         rows = [r.index for r in layout if r.kind == "constraint"]
         mults = np.array([v for r, v in zip(layout, values) if r.kind == "constraint"])
         contacts, friction = self._contact_forces(mode, layout, values, cout, qdd)
         return Solution(qdd, rows, mults, layout, values, M, F, G, gamma, B, Gm, gm, Bm,
-                        contacts, friction, direct)
+                        contacts, friction, direct, particular)
 
     def friction_force(self, mode: Mode, layout: list[RowSpec], values: np.ndarray, cout) -> np.ndarray:
         """Generalized friction force ``sum_c W_c^T F_c`` from the multipliers of the mode's rows
@@ -668,7 +709,8 @@ class ModeSolver:
 def _minimum_norm(M, F, B, G, gamma):
     """Redundant contacts (a body resting on more supports than it needs, both ends of a flat
     rod sticking): the accelerations are unique but the contact forces are statically
-    indeterminate.  Take the minimum-norm forces, if the system is consistent."""
+    indeterminate.  The accelerations and the minimum-norm forces, if the system is consistent
+    (:func:`~nonideal.indeterminate.best_distribution` then finds the forces reported)."""
     n, m = M.shape[0], G.shape[0]
     K = np.zeros((n + m, n + m))
     K[:n, :n] = M

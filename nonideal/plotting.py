@@ -8,7 +8,24 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-__all__ = ["plot_trajectory"]
+__all__ = ["plot_trajectory", "mode_colors"]
+
+#: colours of the contact states in the mode timeline ("(N<0)" labels take their state's colour)
+PALETTE = {"separated": "#dddddd", "stick": "#2a9d8f", "slide+": "#e76f51", "slide-": "#f4a261",
+           "slide": "#e9c46a", "smooth": "#8ab17d"}
+
+
+def mode_colors(traj) -> dict[str, str]:
+    """The contact states that occur in *traj*, with their colours (the timeline's legend).
+
+    Examples
+    --------
+    >>> from nonideal import gallery, simulate
+    >>> mode_colors(simulate(gallery.load("block-on-incline")))
+    {'stick': '#2a9d8f', 'slide+': '#e76f51'}
+    """
+    seen = {label.replace("(N<0)", "") for c in traj.contacts.values() for label in c["mode"]}
+    return {state: color for state, color in PALETTE.items() if state in seen}
 
 
 def _hermite(t: np.ndarray, y: np.ndarray, dy: np.ndarray, points: int = 12):
@@ -42,7 +59,7 @@ def plot_trajectory(traj, path, title: str | None = None) -> None:
     """Write a PNG with the coordinates, velocities, multipliers/contact forces and energy.
 
     Event times are marked with vertical lines; contact modes (when there are contacts) are
-    drawn as a timeline.
+    drawn as a timeline whose legend lists the states that occur (:func:`mode_colors`).
     """
     has_contacts = bool(traj.contacts)
     panels = 4 + (1 if has_contacts else 0)
@@ -90,19 +107,18 @@ def plot_trajectory(traj, path, title: str | None = None) -> None:
     if has_contacts:
         ax = axes[4]
         names = list(traj.contacts)
-        palette = {"separated": "#dddddd", "stick": "#2a9d8f", "slide+": "#e76f51",
-                   "slide-": "#f4a261", "slide": "#e9c46a"}
+        colors = mode_colors(traj)
         for k, name in enumerate(names):
             modes = traj.contacts[name]["mode"]
             start = 0
             for j in range(1, len(t) + 1):
                 if j == len(t) or modes[j] != modes[start]:
                     ax.barh(k, t[min(j, len(t) - 1)] - t[start], left=t[start],
-                            color=palette.get(modes[start], "#999999"), edgecolor="none")
+                            color=colors[modes[start].replace("(N<0)", "")], edgecolor="none")
                     start = j
         ax.set_yticks(range(len(names)), names)
-        handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in palette.values()]
-        ax.legend(handles, list(palette), fontsize=7, ncol=5, loc="upper right")
+        handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in colors.values()]
+        ax.legend(handles, list(colors), fontsize=7, ncol=len(colors), loc="upper right")
         ax.set_ylabel("contact mode")
     for a in axes:
         for ev in traj.events:

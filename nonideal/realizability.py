@@ -28,7 +28,7 @@ from .consistency import complete_state
 from .contacts import Coulomb, LinearizedCoulomb, RegularizedCoulomb
 from .errors import ModelError, did_you_mean
 from .model import Model
-from .modes import SEPARATED, STICK, ContactState, Mode, ModeSolver
+from .modes import SEPARATED, SMOOTH, STICK, ContactState, Mode, ModeSolver
 from .numeric import kernel_of, parameter_vector
 
 __all__ = ["ContactRealizability", "RealizabilityReport", "realizability", "realizability_along",
@@ -110,7 +110,8 @@ def _stick_mode(solver: ModeSolver, t, q, qd, names=None) -> Mode:
     for c, name in enumerate(solver.ck.names):
         closed = solver.ck.data[c].bilateral or abs(cout["gap"][c]) <= 1e-8 * scale
         wanted = names is None or name in names
-        states.append((name, ContactState(STICK if closed and wanted else SEPARATED)))
+        touching = SMOOTH if c in solver.frictionless else STICK  # no friction: nothing to realize
+        states.append((name, ContactState(touching if closed and wanted else SEPARATED)))
     return Mode(held, tuple(states))
 
 
@@ -186,7 +187,9 @@ def realizability_along(model: Model, t_end: float | None = None, samples: int =
     traj = sim.run(t_end=t_end, times=np.linspace(model.t0, t_end, samples),
                    stop_on={"slip", "lift-off"})
     margins = {}
-    for name, rec in traj.contacts.items():
+    for c, (name, rec) in enumerate(traj.contacts.items()):
+        if c in sim.solver.frictionless:
+            continue
         F = np.array(rec["friction"], dtype=float)
         margins[name] = np.array(rec["mu_static"]) * np.abs(rec["normal"]) - np.linalg.norm(F, axis=1)
     first = next((e for e in traj.events if e["type"] in ("slip", "lift-off")), None)

@@ -28,7 +28,7 @@ from scipy.optimize import brentq
 
 from .consistency import complete_state, project_state
 from .errors import IntegrationFailed, ModelError, PainleveParadox
-from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch
+from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, transition
 from .model import Model
 from .mode_system import Motion
 from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, ModeSolver
@@ -213,7 +213,7 @@ class Simulation:
             elif cs.state == SLIDE:
                 d = self.solver.ck.dims[c]
                 direction = cs.direction[0] if d == 1 else 1.0
-                out.append(SlipStop("stick" if d == 1 else "slip-stop", name, c, direction=direction))
+                out.append(SlipStop("slip-stop", name, c, direction=direction))
                 if self.detect_jam and not bilateral:
                     out.append(Jam("jam", name, c))
         return out
@@ -266,6 +266,11 @@ class Simulation:
                               concerned=ev.name)
         q, qd = self._project(new, t, q, qd)
         y[:n], y[n:2 * n] = q, qd
+        record["type"] = ev.outcome(mode, new)
+        changes = {name: kind for (name, a), (_, b) in zip(mode.contacts, new.contacts)
+                   if (kind := transition(a, b))}
+        if set(changes) - {ev.name}:
+            record["changes"] = changes
         record["mode"] = new.label()
         return y, new, record
 
@@ -366,8 +371,11 @@ class Simulation:
         initial : mapping, optional
             Overrides of initial values.
         stop_on : set of str, optional
-            Event kinds (``"slip"``, ``"lift-off"``, ``"release"``...) that end the run at the
-            event (the last sample is the state at the event, before the switch).
+            Event types (``"slip"``, ``"stick"``, ``"reverse"``, ``"lift-off"``, ``"release"``...;
+            see :mod:`nonideal.events`) that end the run at the event (the last sample is the
+            state at the event, before the switch).  An event whose kind is listed stops
+            before the next mode is selected; the others stop when the selected switch is of
+            a listed type.
 
         Returns
         -------
@@ -489,10 +497,13 @@ class Simulation:
                         emit(te, ye, mode)  # the state at the event, before the switch
                     else:
                         next_time = self._sample_dense(dense, t_old, te, times, next_time, mode, emit)
-                    if stop_on and events[k].kind in stop_on:
+                    # stop on the kind the event watches, or on what the switch would do
+                    switched = None if stop_on and events[k].kind in stop_on else \
+                        self._switch(te, ye, mode, events[k])
+                    if switched is None or (stop_on and switched[2]["type"] in stop_on):
                         if times is not None:
                             emit(te, ye, mode)
-                        record = events[k].record(te)
+                        record = events[k].record(te) if switched is None else switched[2]
                         record["mode"] = mode.label()
                         record["stopped"] = True
                         events_log.append(record)
@@ -500,7 +511,7 @@ class Simulation:
                         times = None
                         stopped = True
                         break
-                    y, new_mode, record = self._switch(te, ye, mode, events[k])
+                    y, new_mode, record = switched
                     events_log.append(record)
                     if len(events_log) > self.max_events:
                         raise IntegrationFailed(te, mode.label(), f"more than {self.max_events} mode "

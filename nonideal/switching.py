@@ -10,7 +10,8 @@ direction) and keeps the consistent ones:
   ``|F| <= f0``, two components ``F1^2 + F2^2 <= f0^2``);
 * sliding contact: ``N >= 0`` and, at the onset (``U ~ 0``), slip acceleration along the
   assumed direction (``U' = kappa s, kappa >= 0``; for two components the direction is found
-  by a one-dimensional root search).
+  by a one-dimensional root search);
+* "smooth" contact (a regularized law, or no friction): ``N >= 0``.
 
 Static friction is preferred (a consistent sticking state wins over sliding).  If the
 consistent combinations still give different motions, or none is consistent, the problem has
@@ -58,7 +59,7 @@ def contact_options(solver: ModeSolver, kin: np.ndarray, scales, tol_pos=1e-9, t
         opts = [] if data.bilateral else [ContactState(SEPARATED)]
         sigmas = (1, -1) if data.bilateral else (1,)
         U = kin[at["U"] + ck.offsets[c]:at["U"] + ck.offsets[c] + ck.dims[c]]
-        if not solver.laws[c].exact:
+        if not solver.laws[c].exact or c in solver.frictionless:
             opts += [ContactState(SMOOTH, (), s) for s in sigmas]
         elif np.sqrt(U @ U) <= tol_vel * sv:
             opts.append(ContactState(STICK))
@@ -367,7 +368,7 @@ def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting=
     approach.  Constraints use their restitution (0 = plastic); a contact's normal impulse
     follows its impact law, and its tangential impulse is that of sticking when
     ``|Lambda_t| <= mu_s Lambda_n``, else Coulomb sliding ``-mu Lambda_n s`` along the
-    pre-impact slip.
+    pre-impact slip (none for a frictionless contact).
 
     Returns
     -------
@@ -398,7 +399,10 @@ def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting=
         U = ck.slip(cout, c)
         nrm = np.linalg.norm(U)
         s = U / nrm if nrm > 1e-12 * (1 + np.max(np.abs(qd))) else None
-        opts = ["stick"] + (["slide"] if s is not None and solver.laws[c].exact else []) + ["off"]
+        if c in solver.frictionless:  # a normal impulse only
+            s, opts = np.zeros(len(U)), ["slide", "off"]
+        else:
+            opts = ["stick"] + (["slide"] if s is not None and solver.laws[c].exact else []) + ["off"]
         options_c.append([(c, o, s) for o in opts])
     for k in range(len(closed), -1, -1):
         for subset in itertools.combinations(closed, k):

@@ -49,6 +49,16 @@ class Trajectory:
     events : list of dict
     diagnostics : dict
     contacts : dict name -> dict of arrays (``normal``, ``friction``, ``slip``, ``mode``)
+
+    Notes
+    -----
+    Where the reactions are statically indeterminate (the rows of the mode are dependent: a
+    ladder sticking at a rough wall and floor, a table's legs sticking), the multipliers and
+    contact forces are the admissible distribution with the widest margins -- the one that
+    maximizes the smallest of ``N``, ``mu_s N - |F|`` and the held multipliers among the
+    contacts whose reactions are indeterminate, and among several such the one of least norm
+    (:mod:`nonideal.indeterminate`); the slip and lift-off events fire when no admissible
+    distribution is left.
     """
 
     model: str

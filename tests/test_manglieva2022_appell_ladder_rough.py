@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from nonideal import gallery, simulate
+from nonideal.crosscheck import compare_forms
 from nonideal.errors import FormNotApplicable
 from nonideal.evaluation import evaluate
 from nonideal.friction_law import painleve_model, touching_contacts
@@ -95,7 +96,7 @@ def test_physical_normal_forces_depend_on_friction_constraint_parts_do_not(alpha
 
 def test_stop_slide_back_and_release_events(model):
     tr = simulate(model)
-    assert [(e["type"], e["contact"]) for e in tr.events] == [("stick", "wall"), ("lift-off", "wall")]
+    assert [(e["type"], e["contact"]) for e in tr.events] == [("reverse", "wall"), ("lift-off", "wall")]
     assert tr.events[0]["mode"].startswith("wall:slide-, floor:slide+")       # reverses, no stick
     assert tr.events[0]["t"] == pytest.approx(T_STOP, rel=1e-10)
     assert tr.events[1]["t"] == pytest.approx(T_RELEASE, rel=1e-10)
@@ -128,6 +129,50 @@ def test_ladder_held_by_static_friction_after_a_stronger_push():
     after = tr.t > cf["t_stop"] + 1e-9
     assert np.max(np.abs(tr.q[after, 2] - cf["alpha_stop"])) < 1e-9
     assert np.max(np.abs(tr.qd[after])) < 1e-9
+
+
+@pytest.mark.parametrize("t_end, rtol", [(1.0, None), (2.0, None), (2.0, 1e-12), (1.7, 1e-8)])
+def test_ladder_at_rest_stays_without_events(t_end, rtol):
+    # both ends sticking: four rows on three coordinates, the reactions statically
+    # indeterminate; the best admissible distribution holds it (the minimum-norm one gave a
+    # "slip" at a time that followed the step size)
+    m = build(alpha0=0.4, alphad0=0.0, top=False)
+    p = m.parameter_values
+    tr = simulate(m, t_end=t_end, **({"rtol": rtol} if rtol else {}))
+    assert tr.events == [] and set(tr.modes) == {"wall:stick, floor:stick"}
+    assert np.max(np.abs(tr.q - tr.q[0])) < 1e-12 and np.max(np.abs(tr.qd)) < 1e-12
+    assert tr.q[0, 2] == pytest.approx(0.4, abs=1e-14)
+    mg = p["m"] * p["g"]
+    for name in ("wall", "floor"):
+        c = tr.contacts[name]
+        F, N = np.array(c["friction"])[:, 0], np.array(c["normal"])
+        assert np.all(np.abs(F) < 0.3 * N - 1.0)                 # inside the cones, widely
+    # the distribution with the widest margins: F_A = 0 (the wall's margin binds)
+    wall, floor = tr.contacts["wall"], tr.contacts["floor"]
+    N_A = mg / 2 * np.tan(0.4)
+    assert np.allclose(wall["normal"], N_A, rtol=1e-13) and np.allclose(wall["friction"], 0.0, atol=1e-12)
+    assert np.allclose(floor["normal"], mg, rtol=1e-13) and np.allclose(floor["friction"], -N_A, rtol=1e-13)
+
+
+def test_ladder_at_rest_forms_and_evaluate():
+    m = build(alpha0=0.4, alphad0=0.0, top=False)
+    assert compare_forms(m, contact_state="stick").worst() < 1e-12
+    ev = evaluate(m)
+    assert ev.mode == "wall:stick, floor:stick"
+    margins = [ev.contacts[n]["margin"] for n in ("wall", "floor")]
+    mg = m.parameter_values["m"] * m.parameter_values["g"]
+    N_A = mg / 2 * np.tan(0.4)
+    assert margins == pytest.approx([0.3 * N_A, 0.3 * mg - N_A], rel=1e-12)
+
+
+def test_steep_ladder_at_rest_balances_both_margins():
+    # stopped at alpha_s = 0.583 below alpha_lim: F_A > 0 makes both margins equal (small)
+    tr = simulate(build(alpha0=0.7, alphad0=-1.2, t_end=1.5))
+    assert [e["type"] for e in tr.events] == ["stick"]
+    after = tr.t > tr.events[0]["t"]
+    margins = [0.3 * np.array(tr.contacts[n]["normal"])[after] - np.abs(np.array(tr.contacts[n]["friction"])[after, 0])
+               for n in ("wall", "floor")]
+    assert np.all(margins[0] > 0.02) and np.allclose(margins[0], margins[1], rtol=1e-9, atol=1e-12)
 
 
 def test_energy_friction_power_residuals(traj):
@@ -186,7 +231,7 @@ def test_cli_simulate_and_evaluate_json(tmp_path):
     proc = _cli("simulate", NAME, "--json", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     d = json.loads(proc.stdout)
-    assert [(e["type"], e["contact"]) for e in d["events"]] == [("stick", "wall"), ("lift-off", "wall")]
+    assert [(e["type"], e["contact"]) for e in d["events"]] == [("reverse", "wall"), ("lift-off", "wall")]
     assert d["events"][1]["t"] == pytest.approx(T_RELEASE, rel=1e-9)
     assert d["contacts"]["wall"]["mode"][0] == "slide+" and d["contacts"]["wall"]["mode"][-1] == "separated"
     assert np.all(np.diff(d["energy"]["friction_work"]) <= 1e-12)

@@ -118,7 +118,7 @@ def test_slip_reversals_against_the_reduced_equations(params):
     ref = reference_events(p, 0.6, 0.0, 1.0, REVERSAL["t_end"])
     lib = [(e["t"], e["mode"].split(":")[1]) for e in tr.events]
     assert [m for _, m in lib] == [m for _, m in ref] == ["slide-", "slide+", "slide-", "stick", "slide+", "stick"]
-    assert [e["type"] for e in tr.events] == ["stick"] * 4 + ["slip", "stick"]
+    assert [e["type"] for e in tr.events] == ["reverse"] * 3 + ["stick", "slip", "stick"]
     for (t, _), (t_ref, _) in zip(lib, ref):
         assert t == pytest.approx(t_ref, rel=1e-9)
     assert lib[0][0] == pytest.approx(0.605470119265, rel=1e-10)

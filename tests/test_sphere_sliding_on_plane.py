@@ -48,7 +48,7 @@ def test_model_file_and_python_api_agree(model):
 
 
 def test_rolling_time_final_velocity_and_timeline(traj):
-    assert [(e["type"], e["contact"], e["mode"]) for e in traj.events] == [("slip-stop", "plane", "plane:stick")]
+    assert [(e["type"], e["contact"], e["mode"]) for e in traj.events] == [("stick", "plane", "plane:stick")]
     assert traj.events[0]["t"] == pytest.approx(T_STAR, rel=1e-9)
     assert traj.modes[0] == "plane:slide" and traj.modes[-1] == "plane:stick"
     assert np.allclose(traj.qd[-1, :2], V_F, rtol=1e-9, atol=0)
@@ -103,7 +103,7 @@ def test_one_slip_component_launch_along_x_with_backspin():
         assert tr.at("x'") == pytest.approx(-2.0 / 7.0, rel=1e-9)
         assert tr.energy["friction_work"][-1] == pytest.approx(-64.0 / 7.0, rel=1e-10)
         assert np.all(np.diff(tr.energy["friction_work"]) <= 1e-12)
-    assert tr3.events[0]["type"] == "slip-stop" and tr1.events[0]["type"] == "stick"
+    assert tr3.events[0]["type"] == tr1.events[0]["type"] == "stick"
     assert tr1.modes[0] == "plane:slide+"
     assert np.max(np.abs(tr3.velocity("y"))) < 1e-14
 
@@ -137,7 +137,7 @@ def test_cli_simulate_json_and_plot(tmp_path):
     assert {"normal", "friction", "slip", "mode"} <= set(plane)
     assert len(plane["slip"][0]) == 2 and len(plane["friction"][0]) == 2
     assert plane["mode"][0] == "slide" and plane["mode"][-1] == "stick"
-    assert [(e["type"], e["contact"]) for e in d["events"]] == [("slip-stop", "plane")]
+    assert [(e["type"], e["contact"]) for e in d["events"]] == [("stick", "plane")]
     assert d["events"][0]["t"] == pytest.approx(T_STAR, rel=1e-9)
     assert d["qdot"]["x"][-1] == pytest.approx(V_F[0], rel=1e-9)
     assert d["energy"]["friction_work"][-1] == pytest.approx(-np.linalg.norm(U0) ** 2 / 7, rel=1e-9)

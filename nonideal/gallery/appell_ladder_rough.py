@@ -70,10 +70,10 @@ quadrature gives alpha'^2 = 0 (alpha_s, time by quadrature); it slides back iff
 tan(alpha_s) > 2 f_B/(1 - f_A f_B) (static friction cannot hold it; 0.5830 rad here), then falls
 (sigma = +1) from rest at alpha_s along the quadrature, and leaves the wall where R_A^n of
 (1.110) vanishes (alpha_r: root of R_A^n(alpha, alpha'^2(alpha)); t_r by quadrature).  ``run``
-compares alpha_s, t_s, alpha_r, t_r with the library's events ("stick" -- the slip velocities
-vanish, the mode reverses -- and "lift-off" of the wall), alpha'^2(alpha) of (1.109) with the
-simulated motion in both phases, R_A^n, R_B^n with (1.110) and (1.106) with the simulated
-alpha'' for unequal f_A, f_B.  Painleve's split: the constraint parts of the reactions are the
+compares alpha_s, t_s, alpha_r, t_r with the library's events ("reverse" -- the slip
+velocities vanish and change sign without sticking -- and "lift-off" of the wall),
+alpha'^2(alpha) of (1.109) with the simulated motion in both phases, R_A^n, R_B^n with (1.110)
+and (1.106) with the simulated alpha'' for unequal f_A, f_B.  Painleve's split: the constraint parts of the reactions are the
 smooth reactions at the same state (R_A = m(3/4 g s c - l s alpha'^2), R_B = m g - m(3/4 g s^2 +
 l c alpha'^2)), whatever f -- the seed's answer to Appell ("the normal component depends on the
 tangential one" holds for the physical normal forces, not for the constraint forces).  After
@@ -86,11 +86,15 @@ multiplier, so ``compare_forms`` in the physical representation compares Lagrang
 (bit-identical) and only the Gauss solver is independent.  The non-trivial cross-check is the
 seed's representation (``--friction painleve``: both contacts ideal, friction as ``M V mu``,
 mu from the split of the physical reaction): every form eliminates the contacts there and must
-give the physical accelerations (``run``: 3e-15).  Both ends sticking cannot be cross-checked:
-the two no-slip rows are dependent (both say alpha' = 0) and the friction forces of a ladder at
-rest are statically indeterminate (the library holds it with one end at its friction limit).
-A stronger push (alpha0 = 0.7, alpha0' = -1.2) stops the ladder below alpha_lim and static
-friction holds it (tested).
+give the physical accelerations (``run``: 3e-15).  Both ends sticking, the rows are dependent
+(four on three coordinates: both no-slip rows say alpha' = 0) and the reactions of a ladder at
+rest are statically indeterminate: it stays at rest iff some distribution satisfies both
+friction cones, and the library reports the one with the widest margins
+(:mod:`nonideal.indeterminate`); at alpha = 0.4 (tested) F_A = 0, R_A^n = (m g/2) tan(alpha),
+R_B^n = m g, F_B = -R_A^n, the wall's margin f_A R_A^n binding (steeper, F_A > 0 balances the
+two margins).  The forms agree on the accelerations (the reduced ones are derived without the
+dependent row).  A stronger push (alpha0 = 0.7,
+alpha0' = -1.2) stops the ladder below alpha_lim and static friction holds it (tested).
 """
 
 from __future__ import annotations
@@ -409,12 +413,12 @@ def run(verbose: bool = True) -> dict:
     traj = simulate(model, times=np.linspace(0.0, model.simulation.t_end, 361))
     ev = [(e["t"], e["type"], e["contact"], e["mode"]) for e in traj.events]
     kinds = [(e[1], e[2]) for e in ev]
-    stop = next(e for e in traj.events if e["type"] == "stick")
+    stop = next(e for e in traj.events if e["type"] == "reverse")
     release = next(e for e in traj.events if e["type"] == "lift-off")
     full = simulate(model, t_end=0.9)          # states exactly at the events
     alpha_at = {e["type"]: float(full.q[int(np.searchsorted(full.t, e["t"])), 2]) for e in full.events}
     err_t = max(abs(stop["t"] / cf["t_stop"] - 1), abs(release["t"] / cf["t_release"] - 1))
-    err_alpha = max(abs(alpha_at["stick"] - cf["alpha_stop"]), abs(alpha_at["lift-off"] - cf["alpha_release"]))
+    err_alpha = max(abs(alpha_at["reverse"] - cf["alpha_stop"]), abs(alpha_at["lift-off"] - cf["alpha_release"]))
     mode_after_stop = stop["mode"]
     al = along(traj, cf, p)
     c106 = check_1_106()
@@ -428,7 +432,7 @@ def run(verbose: bool = True) -> dict:
     dl = land.diagnostics
     E_land = land.energy
     at_rest_flat = (abs(land.q[-1, 2] - np.pi / 2) < 1e-9 and np.max(np.abs(land.qd[-1])) < 1e-9)
-    checks = [kinds[:2] == [("stick", "wall"), ("lift-off", "wall")], cf["slides_back"],
+    checks = [kinds[:2] == [("reverse", "wall"), ("lift-off", "wall")], cf["slides_back"],
               mode_after_stop.startswith("wall:slide-, floor:slide+"), err_t < 1e-9, err_alpha < 1e-9,
               al["rate2 (1.109)"] < 1e-8, al["reactions (1.110)"] < 1e-9, al["alpha_dd (1.108)"] < 1e-9,
               al["printed (1.109)"] > 1e-2, al["printed R_A (1.110)"] > 1e-3, al["printed R_B (1.110)"] > 1e-3,
@@ -460,7 +464,7 @@ def run(verbose: bool = True) -> dict:
         print("    constraint parts of the split = smooth reactions at the same state: "
               f"{c106['errors']['split']:.1e}")
         print(f"(b) rises (friction reversed) and stops: alpha_s = {cf['alpha_stop']:.12f}, t_s = {cf['t_stop']:.12f}"
-              f" (quadrature); library {alpha_at['stick']:.12f} at {stop['t']:.12f}")
+              f" (quadrature); library {alpha_at['reverse']:.12f} at {stop['t']:.12f}")
         print(f"    tan(alpha_s) = {np.tan(cf['alpha_stop']):.6f} > 2 f_B/(1 - f_A f_B) = "
               f"{2 * p['f_B'] / (1 - p['f_A'] * p['f_B']):.6f}: slides back; mode after the stop: {mode_after_stop}")
         print(f"(c) leaves the wall (R_A^n = 0 in (1.110)): alpha_r = {cf['alpha_release']:.12f}, t_r = "

@@ -18,7 +18,7 @@ Closed form.  Thrown up the slope with speed v0 > 0 (y = 0 held, N = m g cos(alp
 
 * sliding up (U > 0, friction ``-mu N``): ``x'' = -a_up``, ``a_up = g (sin(alpha) + mu cos(alpha))``,
   ``x = v0 t - a_up t^2 / 2``;
-* it stops (``U = 0``: event "stick") at ``t1 = v0 / a_up`` after ``d = v0^2 / (2 a_up)``;
+* it stops (``U = 0``) at ``t1 = v0 / a_up`` after ``d = v0^2 / (2 a_up)``;
 * if ``tan(alpha) <= mu_s`` static friction holds it: the needed friction ``F = m g sin(alpha)``
   stays below ``mu_s N`` for ever; mode ``stick``, no further event;
 * if ``tan(alpha) > mu_s`` it slides back down (mode ``slide-``, friction ``+mu N``):
@@ -33,9 +33,9 @@ sliding and zero while sticking: ``W_f = -mu m g cos(alpha) * (path length)``, t
 ``d`` (sticks) or ``2 d - x(t)`` (slides back).  Energy balance:
 ``T + V - (T + V)(0) = W_f``.
 
-Switching.  At ``t1`` the event is the slip velocity reaching zero (kind "stick"); mode
-selection then decides between sticking (consistent iff ``m g sin(alpha) <= mu_s N``) and
-sliding down.  Exactly one event, no chattering, in both regimes.
+Switching.  At ``t1`` the event is the slip velocity reaching zero; mode selection then decides
+between sticking (consistent iff ``m g sin(alpha) <= mu_s N``; the event is recorded as "stick")
+and sliding down (recorded as "reverse").  Exactly one event, no chattering, in both regimes.
 """
 
 from __future__ import annotations
