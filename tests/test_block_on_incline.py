@@ -3,9 +3,6 @@ vs sliding back (static friction), friction work = -mu N * path, energy balance,
 the CLI."""
 
 import json
-import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -14,6 +11,7 @@ from nonideal import gallery, simulate
 from nonideal.crosscheck import compare_forms
 from nonideal.evaluation import evaluate
 from nonideal.gallery.block_on_incline import build, closed_form, motion
+from cli_helpers import run_cli as _cli
 
 G = 9.81
 # t1 = v0 / (g (sin a + mu cos a)), v0 = 3, mu = 0.3 (digits from the formula)
@@ -109,12 +107,6 @@ def test_all_forms_agree(model, state):
 
 def test_gallery_run():
     assert gallery.run("block-on-incline", verbose=False)["ok"]
-
-
-def _cli(*argv, cwd):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal"]
-    return subprocess.run([*cmd, *map(str, argv)], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def test_cli_simulate_json(tmp_path):

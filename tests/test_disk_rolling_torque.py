@@ -4,9 +4,6 @@ state), sliding afterwards, the epsilon-linear regularized system -> rolling wit
 proportional to eps (exact solution of the regularized system), energy, all forms, CLI."""
 
 import json
-import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -16,6 +13,7 @@ from nonideal.crosscheck import compare_forms
 from nonideal.gallery.disk_rolling_torque import (build, motion, needed_friction,
                                                   regularization_error, regularized_motion, t_loss)
 from nonideal.realizability import realizability, realizability_along
+from cli_helpers import run_cli as _cli
 
 # m = 2, R = 0.3, I = m R^2/2 = 0.09, I + m R^2 = 0.27, c = 2, mu = mu_s = 0.3, g = 9.81
 T_LOSS = 0.3 * 2.0 * 9.81 * 0.27 / (2.0 * 0.3 * 2.0)     # 1.32435
@@ -128,12 +126,6 @@ def test_all_forms_agree(model, state):
 
 def test_gallery_run():
     assert gallery.run("disk-rolling-torque", verbose=False)["ok"]
-
-
-def _cli(*argv, cwd):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal"]
-    return subprocess.run([*cmd, *map(str, argv)], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def test_cli_simulate_json_and_realizability(tmp_path):

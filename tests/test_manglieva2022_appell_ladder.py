@@ -2,11 +2,6 @@
 f_A = f_B = 0): detachment at cos(alpha) = (2/3) cos(alpha0) (the seed prints 2 cos(alpha0)),
 reactions, release and landing times by quadrature, plastic landing in the energy balance."""
 
-import json
-import shutil
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
@@ -15,6 +10,7 @@ from nonideal.crosscheck import compare_forms
 from nonideal.evaluation import evaluate
 from nonideal.gallery.appell_ladder import (build, landing_time, phase_model, reactions_closed,
                                             reactions_seed, release)
+from cli_helpers import cli_json as _cli
 
 NAME = "appell-ladder"
 OTHER_FORMS = [f for f in FORMS if f != "lagrange1"] + ["gauss"]
@@ -144,14 +140,6 @@ def test_hybrid_motion_does_not_depend_on_the_form(model, traj, form):
     assert abs(ev["top_on_floor"]["t"] - ref["top_on_floor"]["t"]) < 1e-10
     assert np.max(np.abs(tr.q[-1] - traj.q[-1])) < 1e-9
     assert tr.multipliers["floor"][-1] == pytest.approx(M * G / 2, abs=1e-9)
-
-
-def _cli(*args):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal.cli"]
-    out = subprocess.run([*cmd, *args], capture_output=True, text=True, timeout=120)
-    assert out.returncode == 0, out.stderr
-    return json.loads(out.stdout)
 
 
 def test_cli_simulate_and_evaluate():

@@ -6,9 +6,6 @@ the wall against the closed form, Painleve's split (constraint parts = smooth re
 seed's representation in every form, energy, the CLI."""
 
 import json
-import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -21,6 +18,7 @@ from nonideal.friction_law import painleve_model, touching_contacts
 from nonideal.gallery.appell_ladder_rough import (
     alpha_dd_1_106, alpha_limit, along, build, check_1_106, closed_form, normal_forces_1_105,
     painleve_representation, rate2, reactions_1_110, smooth_reactions, state)
+from cli_helpers import run_cli as _cli
 
 NAME = "appell-ladder-rough"
 # default push (alpha0 = 0.9, alpha0' = -1, f = 0.3): stop and release (quadrature, 1e-12)
@@ -210,13 +208,7 @@ def test_painleve_representation_closes_only_touching_contacts(model):
         painleve_model(model)          # all three contacts closed: no motion left
 
 
-
 # ------------------------------------------------------------------ command line
-
-def _cli(*argv, cwd):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal"]
-    return subprocess.run([*cmd, *map(str, argv)], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def test_cli_examples_run(tmp_path):

@@ -1,11 +1,6 @@
 """Two points on a rod with the midpoint velocity along the rod (Manglieva & Beknazarov 2022,
 sec. 1.3, problem 1, f = 0): multipliers (1.87), (1.89), the first integral behind (1.92)."""
 
-import json
-import shutil
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
@@ -15,6 +10,7 @@ from nonideal.evaluation import evaluate
 from nonideal.gallery.painleve_conditional_constraint import (angle, build, build_lagrange2,
                                                               first_integral, line_force_1_89,
                                                               multipliers, printed_integral)
+from cli_helpers import cli_json as _cli
 
 NAME = "painleve-conditional-constraint"
 OTHER_FORMS = [f for f in FORMS if f != "lagrange1"] + ["gauss"]
@@ -140,14 +136,6 @@ def test_form_agrees_with_lagrange1(model, form):
         pytest.skip(f"{form} not applicable: {exc}")
     assert report.states == 20
     assert report.worst() < 1e-10, report
-
-
-def _cli(*args):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal.cli"]
-    out = subprocess.run([*cmd, *args], capture_output=True, text=True, timeout=120)
-    assert out.returncode == 0, out.stderr
-    return json.loads(out.stdout)
 
 
 def test_cli_simulate_and_evaluate():

@@ -6,9 +6,6 @@ on both sides of both thresholds, the start-stop-stick motion against the equati
 integrated by hand, energy, all forms, the CLI."""
 
 import json
-import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -20,6 +17,7 @@ from nonideal.gallery.painleve_conditional_constraint import angle, multipliers
 from nonideal.gallery.painleve_conditional_constraint_rough import (
     KEYS, acceleration, at_rest, build, driving_force, friction_law_mu, normal_force, printed_mu,
     reference_motion, residual_1_98, rest_forms, split_at, sticks_at_rest, thresholds)
+from cli_helpers import run_cli as _cli
 
 NAME = "painleve-conditional-constraint-rough"
 T_STOP = 0.6174313731845        # default (X = 15 N): M1 sticks (reference ODE; digits 1e-12)
@@ -171,13 +169,7 @@ def test_all_forms_agree_sliding_and_at_rest(model, p):
     assert max(max(v) for v in rest.values()) < 1e-12, rest
 
 
-
 # ------------------------------------------------------------------ command line
-
-def _cli(*argv, cwd):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal"]
-    return subprocess.run([*cmd, *map(str, argv)], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def test_cli_examples_run(tmp_path):

@@ -1,11 +1,6 @@
 """Painleve's two points on a smooth line, redundant coordinates (Manglieva & Beknazarov 2022,
 sec. 1.1): multipliers (1.27)-(1.28) for any masses, the misprint (1.5), invariants, all forms."""
 
-import json
-import shutil
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
@@ -14,6 +9,7 @@ from nonideal.crosscheck import compare_forms
 from nonideal.evaluation import evaluate
 from nonideal.gallery.painleve_two_points import (MASSES, angle, build, multipliers, printed_1_5,
                                                   random_states, state)
+from cli_helpers import cli_json as _cli
 
 NAME = "painleve-two-points"
 OTHER_FORMS = [f for f in FORMS if f != "lagrange1"] + ["gauss"]
@@ -98,14 +94,6 @@ def test_form_agrees_with_lagrange1(model, form):
         pytest.skip(f"{form} not applicable: {exc}")
     assert report.states == 20
     assert report.worst() < 1e-10, report
-
-
-def _cli(*args):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal.cli"]
-    out = subprocess.run([*cmd, *args], capture_output=True, text=True, timeout=120)
-    assert out.returncode == 0, out.stderr
-    return json.loads(out.stdout)
 
 
 def test_cli_simulate_and_evaluate():

@@ -8,9 +8,6 @@ The split of the reaction into constraint and friction parts and the symbolic fr
 also tested in ``test_manglieva2022_friction_split.py`` (same model file)."""
 
 import json
-import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -22,6 +19,7 @@ from nonideal.gallery.painleve_two_points import angle, multipliers, state
 from nonideal.gallery.painleve_two_points_rough import (
     REVERSAL, build, classic_split, friction_law_mu, independence_of_friction, printed_mu,
     reference_events, residual_1_4, sliding, sticking, xdd_1_29)
+from cli_helpers import run_cli as _cli
 
 NAME = "painleve-two-points-rough"
 T_STICK = 0.436835182221      # default parameters: M stops and sticks (reference ODE, 1e-12)
@@ -142,13 +140,7 @@ def test_all_forms_agree(model, contact_state):
     assert report.worst() < 1e-10, report
 
 
-
 # ------------------------------------------------------------------ command line
-
-def _cli(*argv, cwd):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal"]
-    return subprocess.run([*cmd, *map(str, argv)], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def test_cli_examples_run(tmp_path):

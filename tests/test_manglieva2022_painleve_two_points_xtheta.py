@@ -1,11 +1,6 @@
 """Painleve's two points on a smooth line in (x, y, theta) (Manglieva & Beknazarov 2022, sec. 1.1,
 (1.35)-(1.39)): the seed's Lagrange-II equations, the normal force (1.28), the misprint in (1.29)."""
 
-import json
-import shutil
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
@@ -15,6 +10,7 @@ from nonideal.evaluation import evaluate
 from nonideal.gallery.painleve_two_points import MASSES, multipliers, random_states
 from nonideal.gallery.painleve_two_points import build as build_redundant
 from nonideal.gallery.painleve_two_points_xtheta import build, normal_force_1_39, residuals
+from cli_helpers import cli_json as _cli
 
 NAME = "painleve-two-points-xtheta"
 OTHER_FORMS = [f for f in FORMS if f != "lagrange1"] + ["gauss"]
@@ -108,14 +104,6 @@ def test_form_agrees_with_lagrange1(model, form):
         pytest.skip(f"{form} not applicable: {exc}")
     assert report.states == 20
     assert report.worst() < 1e-10, report
-
-
-def _cli(*args):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal.cli"]
-    out = subprocess.run([*cmd, *args], capture_output=True, text=True, timeout=120)
-    assert out.returncode == 0, out.stderr
-    return json.loads(out.stdout)
 
 
 def test_cli_simulate_and_evaluate():

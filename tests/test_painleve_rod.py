@@ -5,9 +5,6 @@ slip, fall flat) against hand-derived reduced equations, energy, all forms, CLI.
 
 import json
 import re
-import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -18,6 +15,7 @@ from nonideal.errors import PainleveParadox
 from nonideal.gallery.painleve_rod import (build, compliance, critical_mu, library_critical_mu,
                                            pivot_forces, reference_events, region_plot,
                                            sliding_normal_force)
+from cli_helpers import run_cli as _cli
 
 MU_C_11 = (1 + 3 * np.cos(1.1) ** 2) / (3 * np.sin(1.1) * np.cos(1.1))   # 1.333544...
 
@@ -103,12 +101,6 @@ def test_below_the_critical_coefficient_no_paradox():
     assert N0 == pytest.approx(sliding_normal_force(1.1, 0.0, -1.0, build(mu=1.3).parameter_values), rel=1e-12)
     tr = simulate(build(mu=1.3, xd0=-5.0, thetad0=6.0), t_end=0.05)
     assert tr.modes[0] == "A:separated, B:separated"
-
-
-def _cli(*argv, cwd):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal"]
-    return subprocess.run([*cmd, *map(str, argv)], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def _variant(tmp_path, name, mu, xd0, thetad0):

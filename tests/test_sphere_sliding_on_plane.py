@@ -3,9 +3,6 @@ t* = 2|U0|/(7 mu g), v_f = v0 - (2/7) U0, slip direction constant, energy lost =
 -(friction work), mode timeline slide -> stick, one- and two-component slip, all forms, CLI."""
 
 import json
-import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -13,6 +10,7 @@ import pytest
 from nonideal import gallery, simulate
 from nonideal.crosscheck import compare_forms
 from nonideal.gallery.sphere_sliding_on_plane import build, closed_form, motion
+from cli_helpers import run_cli as _cli
 
 MU_G = 0.2 * 9.81
 U0 = np.array([2.0 + 0.1 * 5.0, 1.0 + 0.1 * 3.0])        # (x' - R b', y' + R a') at t = 0
@@ -118,12 +116,6 @@ def test_all_forms_agree(model, state):
 
 def test_gallery_run():
     assert gallery.run("sphere-sliding-on-plane", verbose=False)["ok"]
-
-
-def _cli(*argv, cwd):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal"]
-    return subprocess.run([*cmd, *map(str, argv)], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def test_cli_simulate_json_and_plot(tmp_path):

@@ -4,9 +4,6 @@ friction work of a moving support (positive while sticking, zero per cycle), ene
 all forms, CLI."""
 
 import json
-import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -14,6 +11,7 @@ import pytest
 from nonideal import gallery, simulate
 from nonideal.crosscheck import compare_forms
 from nonideal.gallery.stick_slip_oscillator import build, closed_form, schedule
+from cli_helpers import run_cli as _cli
 
 # m = 1, k = 10, g = 9.81, mu = 0.25, mu_s = 0.4, v_b = 0.5
 W = np.sqrt(10.0)
@@ -132,12 +130,6 @@ def test_all_forms_agree(model, state):
 
 def test_gallery_run():
     assert gallery.run("stick-slip-oscillator", verbose=False)["ok"]
-
-
-def _cli(*argv, cwd):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal"]
-    return subprocess.run([*cmd, *map(str, argv)], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def test_cli_simulate_json(tmp_path):

@@ -1,11 +1,6 @@
 """The Appell-Hamel nonlinear nonholonomic constraint z' = a sqrt(x'^2 + y'^2) (Chetaev's rule):
 lambda = m g/(1 + a^2), s(t) = s0 - g a t/(1 + a^2), constant direction, energy conserved."""
 
-import json
-import shutil
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
@@ -13,6 +8,7 @@ from nonideal import FORMS, FormNotApplicable, gallery, simulate
 from nonideal.crosscheck import compare_forms
 from nonideal.evaluation import evaluate
 from nonideal.gallery.appell_hamel import build, closed_form, end_time
+from cli_helpers import cli_json as _cli
 
 NAME = "appell-hamel"
 OTHER_FORMS = [f for f in FORMS if f != "lagrange1"] + ["gauss"]
@@ -86,14 +82,6 @@ def test_form_agrees_with_lagrange1(model, form):
         pytest.skip(f"{form} not applicable: {exc}")
     assert report.states == 20
     assert report.worst() < 1e-10, report
-
-
-def _cli(*args):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal.cli"]
-    out = subprocess.run([*cmd, *args], capture_output=True, text=True, timeout=120)
-    assert out.returncode == 0, out.stderr
-    return json.loads(out.stdout)
 
 
 def test_cli_simulate_and_evaluate():

@@ -3,9 +3,6 @@ the lateral forces and axle loads it needs (Newton-Euler with load transfer), th
 onset, oversteer vs understeer, the motion after the skid, all forms, the CLI."""
 
 import json
-import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -20,6 +17,7 @@ from nonideal.gallery.car_on_a_turn import (RAMP, both_sliding, build, circumrad
 from nonideal.modes import ContactState, Mode, ModeSolver
 from nonideal.numeric import kernel_of, parameter_vector
 from nonideal.realizability import realizability_along
+from cli_helpers import run_cli as _cli
 
 FORCE_TIMES = [0.2, 0.5, 1.0, 2.0, 4.0, 6.5]
 T_SKID = 6.909262516906938        # rear axle reaches mu_s N (formula, digits of run())
@@ -305,12 +303,6 @@ def test_all_forms_agree_sticking(model):
 
 
 # ----------------------------------------------------------------------------- (6) CLI
-
-
-def _cli(*argv, cwd):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal"]
-    return subprocess.run([*cmd, *map(str, argv)], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def test_cli_simulate_json_and_plot(tmp_path):

@@ -1,11 +1,6 @@
 """Spherical pendulum of variable length (Yushkov 1999, eq. (1.11)): the multiplier of
 ``l(t) - |r| = 0`` is the thread tension; the tension works because the constraint is rheonomic."""
 
-import json
-import shutil
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 from scipy.integrate import simpson
@@ -15,6 +10,7 @@ from nonideal.crosscheck import compare_forms
 from nonideal.evaluation import evaluate
 from nonideal.gallery.spherical_pendulum_variable_length import (build, build_spherical, length,
                                                                  spherical_state, tension)
+from cli_helpers import cli_json as _cli
 
 NAME = "spherical-pendulum-variable-length"
 OTHER_FORMS = [f for f in FORMS if f != "lagrange1"] + ["gauss"]
@@ -101,14 +97,6 @@ def test_form_agrees_with_lagrange1(model, form):
         pytest.skip(f"{form} not applicable: {exc}")
     assert report.states == 20
     assert report.worst() < 1e-10, report
-
-
-def _cli(*args):
-    exe = shutil.which("nonideal")
-    cmd = [exe] if exe else [sys.executable, "-m", "nonideal.cli"]
-    out = subprocess.run([*cmd, *args], capture_output=True, text=True, timeout=120)
-    assert out.returncode == 0, out.stderr
-    return json.loads(out.stdout)
 
 
 def test_cli_simulate_and_evaluate(params):
