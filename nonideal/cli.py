@@ -461,7 +461,8 @@ def cmd_friction_law(args) -> int:
     _check_outputs(args, args.model)
     model = _load(args.model)
     law = friction_law(model, args.contact, args.direction,
-                       substitutions=_substitutions(args.substitute, model))
+                       substitutions=_substitutions(args.substitute, model),
+                       normal_sign=args.normal_sign)
     outputs = _Outputs()
     if args.json:
         _emit_json(args, law.to_dict(), outputs)
@@ -615,6 +616,9 @@ def build_parser() -> argparse.ArgumentParser:
     fl.add_argument("model", help="model file (TOML) or gallery example name")
     fl.add_argument("--contact", required=True, help="the contact (one slip component)")
     fl.add_argument("--direction", type=int, choices=[1, -1], default=1, help="sign of the slip")
+    fl.add_argument("--normal-sign", type=int, choices=[1, -1], default=1,
+                    help="sign of the normal force (-1 only for a bilateral contact, whose "
+                    "friction is -f s |N|)")
     fl.add_argument("--substitute", help="display in other variables, e.g. "
                     "\"x1 = x + l*cos(theta), y1 = y + l*sin(theta)\"")
     fmt2 = fl.add_mutually_exclusive_group()

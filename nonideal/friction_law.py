@@ -15,7 +15,10 @@ acceleration imparted by friction: ``mu = W M^-1 R_tau = F / m_eff``) follow fro
     N_c = lambda_c / (1 - f s k_c),      F = -f s N_c,      mu = F / m_eff,
     1/m_eff = W M^-1 W^T - W M^-1 G^T k.
 
-The denominator ``1 - f s k_c`` vanishing is Painleve's paradox.  ``mu`` in the seed is
+The denominator ``1 - f s k_c`` vanishing is Painleve's paradox.  A bilateral contact (a slider
+in a rough guide) presses either way and Coulomb's law reads ``F = -f s |N_c|``: for a normal
+force of sign ``sigma`` (``normal_sign``) ``F = -f s sigma N_c`` and
+``N_c = lambda_c / (1 - f s sigma k_c)``, a branch that holds while ``sigma N_c > 0``.  ``mu`` in the seed is
 normalized this way: for Painleve's two points (1.13) ``mu = R_x / (m + m1 cos^2 theta)``,
 i.e. ``m_eff = m + m1 cos^2 theta``.
 
@@ -42,6 +45,7 @@ class FrictionLaw:
 
     contact: str
     direction: int
+    normal_sign: int
     rows: list[str]
     lambdas: list[sp.Symbol]
     f: sp.Expr
@@ -52,11 +56,14 @@ class FrictionLaw:
     k: sp.Expr
     denominator: sp.Expr
     substitutions: dict = field(default_factory=dict)
+    bilateral: bool = False
 
     def as_text(self) -> str:
         lam = sp.Symbol(f"lambda_{self.contact}")
         lines = [f"friction law of the system, contact '{self.contact}', slip direction "
-                 f"s = {self.direction:+d} (seed 000, (1.21)-(1.23), (1.81)-(1.82))",
+                 f"s = {self.direction:+d}" + (f", normal force of sign {self.normal_sign:+d} "
+                                              f"(bilateral: F = -f s |N|)" if self.bilateral else "")
+                 + " (seed 000, (1.21)-(1.23), (1.81)-(1.82))",
                  f"  constraint rows (lambda independent of friction): {', '.join(self.rows)}",
                  f"  effective tangential mass m_eff = {sp.sstr(self.effective_mass)}",
                  f"  coupling k = {sp.sstr(self.k)}     ({lam} = N + k F)",
@@ -64,6 +71,8 @@ class FrictionLaw:
                  f"  F  = {sp.sstr(self.F)}",
                  f"  mu = F/m_eff = {sp.sstr(self.mu)}",
                  f"  Painleve: sliding is consistent only while {sp.sstr(self.denominator)} > 0"]
+        if self.bilateral:
+            lines.append(f"  this branch holds while {self.normal_sign:+d}*N > 0")
         if self.substitutions:
             lines.append("  with " + ", ".join(f"{k} = {v}" for k, v in self.substitutions.items()))
         return "\n".join(lines)
@@ -77,7 +86,8 @@ class FrictionLaw:
                 + r"\mu &= " + sp.latex(self.mu, symbol_names=names) + "\n" + r"\end{align*}")
 
     def to_dict(self) -> dict:
-        return {"contact": self.contact, "direction": self.direction, "rows": self.rows,
+        return {"contact": self.contact, "direction": self.direction, "normal_sign": self.normal_sign,
+                "bilateral": self.bilateral, "rows": self.rows,
                 "N": sp.sstr(self.N), "F": sp.sstr(self.F), "mu": sp.sstr(self.mu),
                 "effective_mass": sp.sstr(self.effective_mass), "k": sp.sstr(self.k),
                 "paradox_when_nonpositive": sp.sstr(self.denominator),
@@ -95,7 +105,8 @@ def _simplify(e: sp.Expr, substitutions) -> sp.Expr:
 
 
 def friction_law(model: Model, contact: str, direction: int = 1, constraints=None,
-                 substitutions: dict | None = None, simplify: bool = True) -> FrictionLaw:
+                 substitutions: dict | None = None, simplify: bool = True,
+                 normal_sign: int = 1) -> FrictionLaw:
     """Derive the friction law of the system for *contact* sliding in *direction*.
 
     Parameters
@@ -109,11 +120,15 @@ def friction_law(model: Model, contact: str, direction: int = 1, constraints=Non
         Constraint rows taken as active (default: every constraint of the model).
     substitutions : mapping, optional
         Expressions substituted for display, e.g. ``{x1: x + l*cos(theta)}``.
+    normal_sign : {+1, -1}
+        Sign of the normal force; -1 only for a bilateral contact, whose friction is
+        ``-f s |N|``.
     """
     dyn = dynamics_of(model)
     names = [c.name for c in model.contacts]
     if contact not in names:
-        raise FormNotApplicable(f"friction law: no contact '{contact}'{did_you_mean(contact, names)}")
+        raise FormNotApplicable(f"friction law: no contact '{contact}'{did_you_mean(contact, names)} "
+                                f"(the model's contacts: {', '.join(names) or 'none'})")
     c = names.index(contact)
     cd = dyn.contacts[c]
     if len(cd.U) != 1:
@@ -121,6 +136,11 @@ def friction_law(model: Model, contact: str, direction: int = 1, constraints=Non
                                 "the scalar law is for one (the vector law follows with s = U/|U|)")
     if direction not in (1, -1):
         raise FormNotApplicable("friction law: direction must be +1 or -1")
+    if normal_sign not in (1, -1):
+        raise FormNotApplicable("friction law: the normal force's sign must be +1 or -1")
+    if normal_sign == -1 and not cd.bilateral:
+        raise FormNotApplicable(f"friction law: contact '{contact}' is unilateral, its normal force "
+                                "is never negative; --normal-sign -1 is for bilateral contacts")
     rows = dyn.rows(constraints)
     n = dyn.n
     M = to_sp(dyn.M)
@@ -136,16 +156,17 @@ def friction_law(model: Model, contact: str, direction: int = 1, constraints=Non
     meff = sp.trigsimp(sp.together(1 / inv_meff))
     f = to_sp(cd.mu)
     lam = sp.Symbol(f"lambda_{contact}")
-    den = 1 - f * direction * kc
+    den = 1 - f * direction * normal_sign * kc
     N = lam / den
-    F = -f * direction * N
+    F = -f * direction * normal_sign * N
     mu = F / meff
     subs = substitutions or {}
     if simplify:
         N, F, mu, meff, kc, den = (_simplify(e, subs) for e in (N, F, mu, meff, kc, den))
-    return FrictionLaw(contact, direction, [r.name for r in rows] + [contact],
+    return FrictionLaw(contact, direction, normal_sign, [r.name for r in rows] + [contact],
                        [sp.Symbol(f"lambda_{r.name}") for r in rows] + [lam],
-                       f, N, F, mu, meff, kc, den, {str(k_): str(v) for k_, v in subs.items()})
+                       f, N, F, mu, meff, kc, den, {str(k_): str(v) for k_, v in subs.items()},
+                       bool(cd.bilateral))
 
 
 def painleve_model(model: Model, contacts=None) -> tuple[Model, list[str]]:

@@ -99,6 +99,34 @@ def test_symbolic_friction_law_of_the_system(model):
     assert sp.simplify(law.mu - (-f * lam / (m1 + m2))) == 0   # = f lambda_seed/(m1 + m2)
 
 
+@pytest.mark.parametrize("s_dir", [1, -1])
+@pytest.mark.parametrize("sign", [1, -1])
+def test_friction_law_branches_of_the_bilateral_guide(model, p, s_dir, sign):
+    # the guide is bilateral: F = -f s |N|; each sign of N is a branch, and on its own side it
+    # is the gallery's mu = -f s |lambda| / (m1 + m2)
+    import sympy as sp
+
+    law = friction_law(model, "line", s_dir, normal_sign=sign)
+    assert law.bilateral and law.to_dict()["normal_sign"] == sign
+    values = {sp.Symbol(k): v for k, v in p.items() if k in ("m1", "m2", "f")}
+    lam = sp.Symbol("lambda_line")
+    mu = sp.lambdify(lam, law.mu.subs(values))
+    for lam_c in (0.8, 2.5):
+        assert mu(sign * lam_c) == pytest.approx(friction_law_mu(sign * lam_c, s_dir, p), rel=1e-14)
+    assert "branch holds while" in law.as_text()
+
+
+def test_friction_law_negative_normal_refused_for_a_unilateral_contact():
+    from nonideal import gallery
+    from nonideal.errors import FormNotApplicable
+    from nonideal.modelfile import load_model
+
+    rod = load_model(gallery.model_path("painleve-rod"))
+    name = rod.contacts[0].name
+    with pytest.raises(FormNotApplicable, match="unilateral.*normal-sign -1 is for bilateral"):
+        friction_law(rod, name, +1, normal_sign=-1)
+
+
 @pytest.mark.parametrize("side", ["below low", "above low", "below high", "above high"])
 def test_static_friction_condition_1_100(p, side):
     lo, hi = thresholds(p["theta0"], p)
