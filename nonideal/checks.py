@@ -112,6 +112,9 @@ def check_model(model: Model) -> CheckReport:
     if problem is not None:
         raise problem
     solver = ModeSolver(kernel, params)
+    from .switching import validate_state
+
+    validate_state(solver, model.t0, q, qd)  # finite terms, the contacts' friction data
     mode = select_mode(solver, model.t0, q, qd)
     solver.solve(model.t0, q, qd, mode)  # raises on singular M / dependent constraints
     initial = {c: float(v) for c, v in zip(model.coordinates, q)}
@@ -239,11 +242,11 @@ def diagnose_state(model: Model, t: float, q, qd, closed=(), definite: bool = Fa
             return SingularSystem(
                 f"the kinetic energy is not positive definite at {where}: along the velocity "
                 f"combination {combo} it is negative (inertia {w[k]:.4g}); check the signs of "
-                "[energy] kinetic (T = m/2*x'^2 >= 0)", src)
+                "[energy] kinetic (T = m/2*x'^2 >= 0) and the masses and moments of inertia of [[bodies]]", src)
     return None
 
 
-def diagnose_initial_state(model: Model) -> ModelError | None:
+def diagnose_initial_state(model: Model, definite: bool = False) -> ModelError | None:
     """:func:`diagnose_state` at the model's (completed) initial state; ``None`` if fine or if
     the initial state itself cannot be completed (that error is raised elsewhere)."""
     kernel = kernel_of(model)
@@ -252,7 +255,7 @@ def diagnose_initial_state(model: Model) -> ModelError | None:
         q, qd, closed = complete_state(kernel, model.numeric_initial(), params, model.t0)
     except ModelError:
         return None
-    return diagnose_state(model, model.t0, q, qd, closed, params=params)
+    return diagnose_state(model, model.t0, q, qd, closed, definite=definite, params=params)
 
 
 def explain_mechanics_error(model: Model, exc: MechanicsError) -> Exception:

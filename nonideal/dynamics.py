@@ -27,7 +27,7 @@ from functools import cached_property
 import symengine as se
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
-from .errors import SingularSystem
+from .errors import ModelError, SingularSystem
 from .model import Constraint, Model
 from .symbols import to_se
 
@@ -165,10 +165,10 @@ class Dynamics:
             for it in self._bodies:
                 r = it["r"]
                 if len(r) != len(g):
-                    raise SingularSystem(
+                    raise ModelError(
                         f"body '{it['body'].name}': position has {len(r)} components but "
-                        f"[gravity] has {len(g)}"
-                    )
+                        f"[gravity] vector has {len(g)}; give the gravity vector as many "
+                        f"components as the positions ({len(r)})", _source(self.model))
                 V -= it["m"] * sum((gi * ri for gi, ri in zip(g, r)), se.Integer(0))
         return V
 
@@ -344,7 +344,9 @@ class Dynamics:
             try:
                 B = list(A.LUsolve(se.Matrix(G)))
             except Exception as exc:  # pragma: no cover - symengine raises RuntimeError
-                raise SingularSystem(f"constraint '{c.name}': transform matrix is singular ({exc})")
+                raise SingularSystem(f"constraint '{c.name}': transform matrix is singular ({exc}); "
+                                     "the transform must be an invertible n x n matrix",
+                                     _source(self.model)) from None
         else:
             B = list(G)
         return ConstraintRow(c.name, tuple(G), gamma, tuple(B), position, vel, c.order,
@@ -427,6 +429,11 @@ class ContactData:
 
 
 _CACHE: dict[int, tuple[Model, Dynamics]] = {}
+
+
+def _source(model: Model) -> str | None:
+    """The model file to name in an error (None for a model built in Python)."""
+    return None if model.source == "<api>" else model.source
 
 
 def dynamics_of(model: Model) -> Dynamics:

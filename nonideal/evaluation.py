@@ -224,7 +224,7 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
         with the widest margins, the least-norm one among several (:mod:`nonideal.indeterminate`),
         and a sticking contact's ``margin`` is its margin in that distribution.
     """
-    from .switching import select_mode, validate_contacts
+    from .switching import select_mode, validate_state
 
     allowed = set(model.coordinates) | {c + "'" for c in model.coordinates}
     bad = [k for k in (at or {}) if k not in allowed]
@@ -236,7 +236,7 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     t = model.t0 if t is None else float(t)
     q, qd = _complete_at(kernel, model, at, params, t)
     solver = ModeSolver(kernel, params, form, independent)
-    validate_contacts(solver, t, q, qd)
+    validate_state(solver, t, q, qd)
     mode = select_mode(solver, t, q, qd)
     sol = solver.solve(t, q, qd, mode)
     return _report(model, form, t, q, qd, mode, sol, solver)

@@ -519,7 +519,8 @@ class _Normalizer:
         for name, value in dict(m.parameters).items():
             where = f"[parameters] {name}"
             if not isinstance(name, str) or not is_identifier(name):
-                self.problems.append(f"{where}: not a valid name")
+                self.problems.append(f"{where}: not a valid name (letters, digits, _, not starting "
+                                     "with a digit, not a Python keyword such as 'lambda' or 'if')")
                 continue
             if name in RESERVED_NAMES:
                 self.problems.append(f"{where}: '{name}' is reserved; choose another name")
@@ -815,6 +816,14 @@ class _Normalizer:
                 continue
             out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral)))
         self.set("contacts", tuple(out))
+        # the multipliers are printed as lambda_<constraint>: a parameter or coordinate of that
+        # name would read like a multiplier in every equation
+        for kind, given in (("[parameters]", m.parameters), ("[coordinates] q:", m.coordinates)):
+            for name in given:
+                if isinstance(name, str) and name.startswith("lambda_") and name[7:] in names:
+                    self.problems.append(
+                        f"{kind} '{name}' is the name of the multiplier of constraint or contact "
+                        f"'{name[7:]}' in the equations; rename it")
 
     def friction(self, law: Any, where: str):
         pvals = _parameter_values(self.m.parameters)

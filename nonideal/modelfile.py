@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 import re
 import tomllib
+import unicodedata
 from pathlib import Path
 from typing import Any
 
@@ -89,6 +90,7 @@ def load_model(path: str | Path) -> Model:
                          f"{exc.start}); save it as UTF-8", source) from None
     except OSError as exc:
         raise ModelError(f"cannot read the model file: {exc.strerror or exc}", source) from None
+    text = text.removeprefix("\ufeff")  # a byte-order mark some editors write
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -108,6 +110,27 @@ def _toml_problem(message: str, text: str) -> str:
             out += f"\n    line {line_no}: {line}\n    {' ' * (len(str(line_no)) + 7 + col - 1)}^"
     return out + ("\n    (TOML: strings in double quotes, a key with a prime in quotes as "
                   "\"x'\" = 1.0, tables as [name], arrays of tables as [[constraints]])")
+
+
+def _control_characters(value: Any, where: str = "") -> list[str]:
+    """Strings with control characters (terminal escape sequences, a bell, a carriage
+    return...): printed back, they would act on the user's terminal.  A description may span
+    lines (newlines and tabs are allowed there)."""
+    if isinstance(value, dict):
+        return [p for k, v in value.items()
+                for p in _control_characters(v, f"{where} {k}" if where.endswith("]") else
+                                             f"{where}.{k}" if where else f"[{k}]")]
+    if isinstance(value, list):
+        return [p for i, v in enumerate(value) for p in _control_characters(v, f"{where}[{i}]")]
+    if not isinstance(value, str):
+        return []
+    allowed = "\n\t" if re.split(r"[ .]", where)[-1] in ("description", "source") else ""
+    bad = sorted({c for c in value if unicodedata.category(c) == "Cc" and c not in allowed})
+    if not bad:
+        return []
+    return [f"{where}: contains the control character(s) {', '.join(repr(c) for c in bad)}; "
+            "remove them (only plain text is allowed in a model file's strings"
+            + (", and newlines and tabs in a description)" if not allowed else ")")]
 
 
 def _unknown(keys, allowed, where: str) -> list[str]:
@@ -238,6 +261,14 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     problems: list[str] = []
     check = _Checker(problems)
     problems += _unknown(data, TOP_KEYS, "top level")
+    problems += _control_characters(data)
+    for key in ("constraints", "contacts", "bodies", "loads"):
+        items = data.get(key)
+        for i, item in enumerate(items if isinstance(items, list) else []):
+            if isinstance(item, dict) and "description" in item and not isinstance(item["description"], str):
+                label = item.get("name") if isinstance(item.get("name"), str) else f"#{i + 1}"
+                problems.append(f"[[{key}]] '{label}': description must be a string "
+                                f"(got {_describe(item['description'])})")
     for section, allowed in SECTION_KEYS.items():
         if section in data:
             if not isinstance(data[section], dict):

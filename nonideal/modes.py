@@ -799,10 +799,20 @@ def diagnose_singular(solver: ModeSolver, M, G, B, layout, t, q, qd) -> Exceptio
             f"combination {combo}; give that motion inertia (mass or moment of inertia) or "
             "constrain it", src)
     if m and not np.allclose(B, G.T):
+        # the combination of reactions that moves nothing along the constraints names them
+        A = G @ np.linalg.solve(M, B)
+        _, sv, Vt = np.linalg.svd(A)
+        w = Vt[-1]
+        involved = [r.name for j, r in enumerate(layout) if abs(w[j]) > 1e-6 * np.max(np.abs(w))]
         return MechanicsError(
             "the non-ideal reactions (servo / quasi-ideal / friction) cannot realize the "
-            "constraints: G M^-1 B is singular (for a sliding contact this is the boundary of "
-            "Painleve's paradox)" + where)
+            f"constraints: G M^-1 B is singular -- the reactions of {', '.join(repr(x) for x in involved)} "
+            "in the combination " + ", ".join(f"{w[j]:.4g}*{r.name}" for j, r in enumerate(layout)
+                                              if abs(w[j]) > 1e-6 * np.max(np.abs(w)))
+            + " accelerate the system only along motions the constraints allow, so they cannot "
+            "enforce them (a servo-constraint whose control direction is orthogonal, in the "
+            "metric of M, to the program's gradient; for a sliding contact the boundary of "
+            "Painleve's paradox); choose another reaction direction" + where)
     return SingularSystem(f"the equations of motion are singular{where}", src)
 
 

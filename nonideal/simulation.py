@@ -33,7 +33,7 @@ from .model import Model
 from .mode_system import Motion
 from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, ModeSolver
 from .numeric import SingularMatrix, kernel_of, max_abs, parameter_vector
-from .switching import effective_compliance, impact, select_mode, validate_contacts
+from .switching import effective_compliance, impact, select_mode, validate_state
 from .trajectory import Sample, Trajectory
 
 __all__ = ["simulate", "Simulation"]
@@ -408,7 +408,7 @@ class Simulation:
             t_end = float(times[-1])
         n = self.n
         q0, qd0 = self.initial_state(initial)
-        validate_contacts(self.solver, t0, q0, qd0)
+        validate_state(self.solver, t0, q0, qd0)
         mode = select_mode(self.solver, t0, q0, qd0)
         q0, qd0 = self._project(mode, t0, q0, qd0)
         y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))

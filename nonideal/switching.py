@@ -222,6 +222,7 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
     level = None
     fallback = None
     singular: list[Exception] = []
+    tried = 0
     for held, combo in candidates:
         sticks = sum(1 for cs in combo if cs.state == STICK)
         if level is not None and sticks < level:
@@ -236,6 +237,7 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
                         expanded.append(m.with_contact(solver.ck.names[c], ContactState(SLIDE, s, cs.sigma)))
                 modes = expanded
         for mode in modes:
+            tried += 1
             motion = solver.motion(t, y, mode, kin)
             try:
                 qdd = motion.qdd
@@ -252,8 +254,10 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
                 level = sticks if level is None else level
     if not consistent and fallback is not None:
         consistent = [fallback]
-    if not consistent and singular and all(isinstance(e, SingularSystem) for e in singular):
-        # every candidate is singular: the model itself is (mass matrix, dependent constraints)
+    if not consistent and singular and (len(singular) == tried
+                                        or all(isinstance(e, SingularSystem) for e in singular)):
+        # every candidate is singular or has no answer: the model itself is (mass matrix,
+        # dependent constraints, a servo-constraint its control direction cannot realize)
         raise singular[0]
     if not consistent:
         sliding = [n for n, o in zip(solver.ck.names, copts) if any(cs.state == SLIDE for cs in o)]
@@ -535,6 +539,61 @@ def validate_contacts(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarra
         seen = _VALIDATED[id(ck)] = (ck, set())
     seen[1].add(key)
 
+
+def validate_state(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray) -> None:
+    """Checks of a state that starts an evaluation or a simulation: the contacts
+    (:func:`validate_contacts`), every term of the equations finite there (naming the kinetic
+    energy, the potential or the forces), and the kinetic energy positive definite on the
+    velocities the bilateral constraints allow (a negative mass or moment of inertia: no
+    Painleve paradox, bad input) -- memoized per input like the contacts' checks.
+
+    Raises
+    ------
+    ModelError
+    """
+    validate_contacts(solver, t, q, qd)
+    x = solver.input(t, q, qd)
+    key = x.tobytes()
+    seen = _WELL_POSED.get(id(solver.kernel))
+    if seen is not None and seen[0] is solver.kernel and key in seen[1]:
+        return
+    from .checks import _fmt_state, diagnose_state
+    from .errors import ModelError
+
+    model = solver.model
+    src = None if model.source == "<api>" else model.source
+    out = solver.kernel.dynamics(x)
+    if not (np.all(np.isfinite(out["M"])) and np.all(np.isfinite(out["F"]))):
+        obs = solver.kernel.observables(x)
+        parts = [(k, what) for k, what in (("T", "[energy] kinetic (or [[bodies]])"), ("V", "[energy] potential"))
+                 if not np.all(np.isfinite(np.asarray(obs[k], dtype=float)))]
+        what = (" and ".join(w for _, w in parts) + (" is" if len(parts) == 1 else " are")
+                if parts else "the generalized forces ([forces], [[loads]]) or the derivatives of "
+                "the energies are")
+        raise ModelError(f"{what} not finite at {_fmt_state(model, t, q)} (an overflow, a log or sqrt of a "
+                         "non-positive number, asin/acos outside [-1, 1], a division by zero): "
+                         "change the initial state or the expression", src)
+    problem = diagnose_state(model, t, q, qd, definite=True, params=solver.params)
+    if problem is not None:
+        from .checks import diagnose_initial_state
+        from .errors import SingularSystem
+
+        if diagnose_initial_state(model, definite=True) is None:  # another state than the initial one
+            raise SingularSystem(
+                [p + "; the equations are regular at the initial state, so this is a singular "
+                 "configuration of the coordinates or constraints (like r = 0 in polar "
+                 "coordinates): choose another state or other coordinates" for p in problem.problems],
+                problem.source)
+        raise problem
+    if seen is None or seen[0] is not solver.kernel or len(seen[1]) > 256:
+        if len(_WELL_POSED) > 32:
+            _WELL_POSED.clear()
+        seen = _WELL_POSED[id(solver.kernel)] = (solver.kernel, set())
+    seen[1].add(key)
+
+
+# inputs at which validate_state found a model's equations well posed (as _VALIDATED)
+_WELL_POSED: dict[int, tuple] = {}
 
 # inputs [t, q, q', parameters] at which validate_contacts found a model's contacts valid:
 # {id(contact kernel): (contact kernel, set of input bytes)}

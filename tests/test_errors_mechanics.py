@@ -2,6 +2,7 @@
 state (which constraint, the residual), dependent constraints (named), a singular mass
 matrix (which coordinate), and an integration failure (time and reason).  Exit code 2."""
 
+import re
 from pathlib import Path
 
 import pytest
@@ -236,3 +237,85 @@ def test_singular_configuration_away_from_the_initial_state(capsys):
                    "remove the coordinate; the equations are regular at the initial state, so "
                    "this is a singular configuration of the coordinates or constraints (like r = 0 "
                    "in polar coordinates): choose another state or other coordinates\n")
+
+
+NEGATIVE_MASS_ON_A_ROUGH_FLOOR = """
+[model]
+name = "block with a negative mass"
+format = 1
+[parameters]
+m = -1.0
+g = 9.81
+[coordinates]
+q = ["x", "y"]
+[energy]
+kinetic = "m/2*(x'^2 + y'^2)"
+potential = "m*g*y"
+[[contacts]]
+name = "floor"
+gap = "y"
+slip = ["x'"]
+mu = 0.3
+[initial]
+x = 0.0
+y = 0.0
+"x'" = 1.0
+"y'" = 0.0
+[simulation]
+t_end = 1.0
+"""
+
+
+@pytest.mark.parametrize("with_contact", [True, False])
+def test_negative_mass_is_bad_input_in_every_command(capsys, tmp_path, with_contact):
+    # was: simulate ran and the body fell upward (no contact), or a "Painleve paradox" (exit 3)
+    text = NEGATIVE_MASS_ON_A_ROUGH_FLOOR
+    if not with_contact:
+        text = text.split("[[contacts]]")[0] + "[initial]" + text.split("[initial]")[1]
+    path = tmp_path / "negative_mass.toml"
+    path.write_text(text)
+    model = load_model(path)
+    for run in (check_model, evaluate, lambda m: simulate(m, t_end=1.0)):
+        with pytest.raises(SingularSystem, match="kinetic energy is not positive definite.*along the velocity "
+                           "combination x' it is negative"):
+            run(model)
+    for command in ("check", "evaluate", "simulate"):
+        code, out, err = cli(capsys, command, path, "--json", tmp_path / "out.json")
+        assert code == 2 and err.rstrip().endswith("masses and moments of inertia of [[bodies]]"), command
+        assert not (tmp_path / "out.json").exists()
+
+
+@pytest.mark.parametrize("potential, what", [("m*g*y + asin(x + 1.5)", "[energy] potential"),
+                                             ("m*g*y + log(x)", "[energy] potential"),
+                                             ("m*g*y + exp(1000*(x + 1))", "[energy] potential")])
+def test_terms_not_finite_at_the_initial_state_are_named(capsys, tmp_path, potential, what):
+    # was: exit 3, "no consistent set of held constraints ... among []"
+    text = NEGATIVE_MASS_ON_A_ROUGH_FLOOR.replace("m = -1.0", "m = 1.0").replace('"m*g*y"', f'"{potential}"')
+    path = tmp_path / "nan.toml"
+    path.write_text(text)
+    model = load_model(path)
+    for run in (check_model, evaluate, lambda m: simulate(m, t_end=1.0)):
+        with pytest.raises(ModelError, match=rf"{re.escape(what)} is not finite at t = 0 \(x = 0, y = 0\)"):
+            run(model)
+    code, _, err = cli(capsys, "evaluate", path)
+    assert code == 2 and "change the initial state or the expression" in err
+
+
+def test_servo_constraint_that_its_reaction_cannot_realize_is_named(tmp_path):
+    # the control acts along y, the program x = t needs a force along x: exit 3, named
+    text = (NEGATIVE_MASS_ON_A_ROUGH_FLOOR.replace("m = -1.0", "m = 1.0").split("[[contacts]]")[0]
+            + '[[constraints]]\nname = "prog"\ntype = "servo"\nexpr = "x - t"\nreaction = ["0", "1"]\n'
+            + "[initial]" + NEGATIVE_MASS_ON_A_ROUGH_FLOOR.split("[initial]")[1])
+    path = tmp_path / "servo.toml"
+    path.write_text(text)
+    with pytest.raises(MechanicsError, match="cannot realize the constraints.*the reactions of 'prog'"):
+        evaluate(load_model(path))
+
+
+def test_check_validates_the_friction_data(tmp_path):
+    # check used to say "ok" where evaluate and simulate refused the contact
+    text = NEGATIVE_MASS_ON_A_ROUGH_FLOOR.replace("m = -1.0", "m = 1.0").replace("mu = 0.3", "mu = 0.3\nmu_static = 0.1")
+    path = tmp_path / "mu.toml"
+    path.write_text(text)
+    with pytest.raises(ModelError, match="mu_static = 0.1 is smaller than the kinetic mu = 0.3"):
+        check_model(load_model(path))

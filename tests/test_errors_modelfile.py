@@ -332,3 +332,47 @@ def test_one_unknown_name_without_a_near_match_says_how_to_declare_it():
         "[energy] potential: unknown symbol 'c'",
         "'c' is not a parameter, coordinate or known function: define it in [parameters] as "
         "c = value (SI units), or correct the spelling; there are no default values"]
+
+
+def _pendulum(tmp_path, name, text=None, edit=lambda s: s, encoding="utf-8"):
+    path = tmp_path / name
+    path.write_text(edit(text or (DATA / "pendulum_xy.toml").read_text()), encoding=encoding)
+    return path
+
+
+def test_parameter_named_like_a_multiplier(tmp_path):
+    # the equations print the multiplier of constraint 'rod' as lambda_rod
+    path = _pendulum(tmp_path, "clash.toml", edit=lambda s: s.replace("[parameters]\n", "[parameters]\nlambda_rod = 2.0\n"))
+    with pytest.raises(ModelError, match=r"\[parameters\] 'lambda_rod' is the name of the multiplier of "
+                       "constraint or contact 'rod' in the equations; rename it"):
+        load_model(path)
+
+
+def test_control_characters_are_refused_and_a_byte_order_mark_is_not(tmp_path):
+    esc = _pendulum(tmp_path, "esc.toml", edit=lambda s: s.replace("[model]\n", '[model]\ndescription = "a\\nb"\n', 1)
+                    .replace('name = "', 'name = "\\u001b[31mred\\u0007 ', 1))
+    with pytest.raises(ModelError) as info:
+        load_model(esc)
+    assert info.value.problems == ["[model] name: contains the control character(s) '\\x07', '\\x1b'; remove them "
+                                   "(only plain text is allowed in a model file's strings, and newlines and "
+                                   "tabs in a description)"]
+    bom = _pendulum(tmp_path, "bom.toml", encoding="utf-8-sig")
+    assert bom.read_bytes()[:3] == b"\xef\xbb\xbf"
+    assert load_model(bom).coordinates == load_model(DATA / "pendulum_xy.toml").coordinates
+
+
+def test_description_of_a_constraint_must_be_text(tmp_path):
+    path = _pendulum(tmp_path, "desc.toml", edit=lambda s: s.replace('name = "rod"', 'name = "rod"\ndescription = 5'))
+    with pytest.raises(ModelError, match=r"\[\[constraints\]\] 'rod': description must be a string"):
+        load_model(path)
+
+
+def test_errors_found_when_deriving_name_the_file(tmp_path):
+    from nonideal.checks import check_model
+
+    path = _pendulum(tmp_path, "transform.toml",
+                     edit=lambda s: s.replace('name = "rod"', 'name = "rod"\ntransform = [["0", "0"], ["0", "0"]]'))
+    with pytest.raises(ModelError) as info:
+        check_model(load_model(path))
+    assert str(info.value).startswith(f"{path}: constraint 'rod': transform matrix is singular")
+    assert str(info.value).endswith("the transform must be an invertible n x n matrix")
