@@ -8,7 +8,9 @@ possible velocities ``V`` (``G V = 0``), every generalized reaction decomposes u
 
 because ``V^T M V`` is positive definite.  Hence ``lambda = (G M^-1 G^T)^-1 G M^-1 R`` and
 the friction part is ``P R`` with ``P = I - G^T (G M^-1 G^T)^-1 G M^-1``.  The constraint part
-does not depend on friction: ``lambda = -(G M^-1 G^T)^-1 (gamma + G M^-1 F)``.
+does not depend on friction: ``lambda = -(G M^-1 G^T)^-1 (gamma + G M^-1 F)``.  Per row ``j``
+the constraint part is ``G_j^T lambda_j`` and the friction part the rest of its physical
+reaction, ``R_j - G_j^T lambda_j``; their sum over the rows is ``P R``.
 """
 
 from __future__ import annotations
@@ -63,9 +65,8 @@ class Evaluation:
 
     def reaction_total(self) -> dict[str, list[float]]:
         """The total generalized reaction ``M q'' - F`` and its Painleve split, summed over all
-        constraints and contacts.  Only these sums balance: friction at a contact also changes
-        the physical reactions of the other (ideal) constraints, and Painleve's split assigns
-        that change to the friction part of the contact (seed 000, (1.14)-(1.17))."""
+        constraints and contacts: ``G^T lambda`` and the seed's friction force ``M V mu``
+        (seed 000, (1.14)-(1.17))."""
         n = len(self.coordinates)
         out = {}
         for key in ("generalized", "constraint_part", "friction_part"):
@@ -100,8 +101,8 @@ class Evaluation:
         if self.split_available and len(self.reactions) > 1 and any(
                 any(v != 0 for v in r.get("friction_part", ())) for r in self.reactions.values()):
             tot = self.reaction_total()
-            lines.append("  all reactions (only the sums balance: friction changes the other "
-                         "constraints' reactions too)")
+            lines.append("  all reactions (the friction parts add up to the seed's friction force "
+                         "M V mu)")
             lines.append(f"    total (generalized)    = {_fmt(tot['generalized'])}")
             lines.append(f"    constraint part        = {_fmt(tot['constraint_part'])}")
             lines.append(f"    friction part          = {_fmt(tot['friction_part'])}")
@@ -214,11 +215,13 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     Evaluation
         ``reactions[name]`` holds, for every constraint and contact, its physical generalized
         reaction ``R_j``, the constraint part ``G_j^T lambda_j`` of Painleve's split (which does
-        not depend on friction) and the friction part ``P R_j`` (zero for an ideal constraint;
-        ``M V mu`` in the seed's notation: it accelerates along possible velocities only).
-        The parts of all rows add up to the total reaction; a single row's parts need not add
-        up to its own physical reaction, because friction at a contact changes how the other
-        constraints' physical reactions are distributed (seed 000, (1.14)-(1.17)).  Where the
+        not depend on friction) and the friction part ``R_j - G_j^T lambda_j``, what friction
+        adds to that row's reaction: at the contact its friction force and the change of its
+        normal force, at an ideal constraint the change of its reaction that friction elsewhere
+        causes (seed 000, (1.14)-(1.17); zero in a frictionless system).  Each row's parts add
+        up to its reaction; summed over all rows the friction parts are ``M V mu``, the
+        friction force of the seed, which accelerates along possible velocities only (a single
+        row's friction part need not).  Where the
         reactions are statically indeterminate (dependent rows: a ladder sticking at a rough
         wall and floor), the multipliers and contact forces are the admissible distribution
         with the widest margins, the least-norm one among several (:mod:`nonideal.indeterminate`),
@@ -252,12 +255,9 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
     R_total = sol.M @ sol.qdd - sol.F
     split = painleve_split(sol.M, G_ideal, R_total) if normal_rows else None
     lam_split = {}
-    P = None
     if split is not None:
         for k, j in enumerate(normal_rows):
             lam_split[sol.layout[j].name] = split[0][k]
-        Minv_GT = np.linalg.solve(sol.M, G_ideal.T)
-        P = np.eye(n) - G_ideal.T @ np.linalg.solve(G_ideal @ Minv_GT, Minv_GT.T)
     multipliers, reactions, contacts = {}, {}, {}
     for r_i, row in enumerate(rows):
         name = row.name
@@ -267,7 +267,7 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
         generalized = sol.B[:, r_i] * lam if active else np.zeros(n)
         if split is not None and active:
             constraint_part = sol.G[r_i] * lam_split[name]
-            friction_part = P @ generalized
+            friction_part = generalized - constraint_part
         else:
             constraint_part, friction_part = generalized, np.zeros(n)
         reactions[name] = {
@@ -288,7 +288,7 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
         generalized = normal_force + friction_force
         if split is not None and name in lam_split:
             constraint_part = Gn * lam_split[name]
-            friction_part = P @ generalized
+            friction_part = generalized - constraint_part
         else:
             constraint_part, friction_part = normal_force, friction_force
         reactions[name] = {

@@ -145,14 +145,16 @@ def test_equations_with_friction_in_the_seeds_representation(model):
     assert sp.simplify(Qf[0] - m * sp.Symbol("mu_1")) == 0
 
 
-def test_reaction_total_balances_where_single_rows_need_not(model):
-    # the rod's own parts do not add up to its physical reaction (friction at the line
-    # changes it), the totals over all rows do
+def test_every_row_and_the_total_balance(model):
+    # each row's parts add up to its physical reaction; the ideal rod gets a friction part
+    # too (friction at the line changes the rod's force: seed 000, (1.14)-(1.17)); summed over
+    # the rows the friction parts have the seed's structure (test above)
     d = evaluate(model).to_dict()
     tot = d["reaction_total"]
-    rod = d["reactions"]["rod"]
-    assert np.array(rod["constraint_part"]) + np.array(rod["friction_part"]) != pytest.approx(
-        np.array(rod["generalized"]), abs=1e-6)
+    for name, r in d["reactions"].items():
+        assert np.array(r["constraint_part"]) + np.array(r["friction_part"]) == pytest.approx(
+            np.array(r["generalized"]), abs=1e-12), name
+    assert np.max(np.abs(d["reactions"]["rod"]["friction_part"])) > 1e-3
     assert np.array(tot["constraint_part"]) + np.array(tot["friction_part"]) == pytest.approx(
         np.array(tot["generalized"]), abs=1e-12)
     assert tot["generalized"] == pytest.approx(
