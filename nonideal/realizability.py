@@ -68,6 +68,7 @@ class RealizabilityReport:
     state: dict[str, float]
     contacts: dict[str, ContactRealizability]
     along: dict[str, Any] = field(default_factory=dict)
+    others: dict[str, str] = field(default_factory=dict)
 
     @property
     def realizable(self) -> bool:
@@ -78,6 +79,8 @@ class RealizabilityReport:
                "contacts": {k: v.to_dict() for k, v in self.contacts.items()}}
         if self.along:
             out["along"] = self.along
+        if self.others:
+            out["other_contacts"] = self.others
         return out
 
     def as_text(self) -> str:
@@ -91,6 +94,9 @@ class RealizabilityReport:
                 f"f0 = mu_s N = {c.available:.8g}")
             lines.append(f"    {cond}: {'yes' if c.realizable else 'NO'}; margin f0 - |f*| = "
                          f"{c.margin:.8g}, ratio |f*|/f0 = {c.ratio:.6g}" + (f"  ({c.note})" if c.note else ""))
+        if self.others:
+            lines.append("  other contacts, as in the motion: "
+                         + ", ".join(f"{k} {v}" for k, v in self.others.items()))
         if self.along:
             a = self.along
             if a.get("lost_at") is not None:
@@ -103,15 +109,32 @@ class RealizabilityReport:
 
 
 def _stick_mode(solver: ModeSolver, t, q, qd, names=None) -> Mode:
+    """The touching contacts sticking (only *names*, when given; a frictionless one is
+    smooth).  The other touching contacts keep the state the motion has there
+    (:func:`~nonideal.switching.select_mode`: sliding, smooth, separating), so that their
+    forces still act; when that selection has no answer they stick too."""
     held = frozenset(solver.kernel.rows[i].name for i in solver.unilateral)
     cout = solver.ck(solver.input(t, q, qd))
     scale = 1 + np.max(np.abs(q))
+    natural = {}
+    if names is not None:
+        from .errors import MechanicsError
+        from .switching import select_mode
+
+        try:
+            natural = dict(select_mode(solver, t, q, qd).contacts)
+        except MechanicsError:
+            natural = {}
     states = []
     for c, name in enumerate(solver.ck.names):
         closed = solver.ck.data[c].bilateral or abs(cout["gap"][c]) <= 1e-8 * scale
-        wanted = names is None or name in names
         touching = SMOOTH if c in solver.frictionless else STICK  # no friction: nothing to realize
-        states.append((name, ContactState(touching if closed and wanted else SEPARATED)))
+        if not closed:
+            states.append((name, ContactState(SEPARATED)))
+        elif names is None or name in names or name not in natural:
+            states.append((name, ContactState(touching)))
+        else:
+            states.append((name, natural[name]))
     return Mode(held, tuple(states))
 
 
@@ -166,7 +189,9 @@ def realizability(model: Model, at: Mapping[str, float] | None = None, t: float 
     sol = solver.solve(t, q, qd, mode)
     state = dict(zip(model.coordinates, map(float, q)))
     state.update({c + "'": float(v) for c, v in zip(model.coordinates, qd)})
-    return RealizabilityReport(model.name, t, state, _assess(solver, sol, mode))
+    others = {name: cs.label() for name, cs in mode.contacts
+              if contacts is not None and name not in contacts}
+    return RealizabilityReport(model.name, t, state, _assess(solver, sol, mode), others=others)
 
 
 def realizability_along(model: Model, t_end: float | None = None, samples: int = 201,
