@@ -27,7 +27,7 @@ from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 from scipy.optimize import brentq
 
 from .consistency import complete_state, project_state
-from .errors import IntegrationFailed, ModelError, PainleveParadox
+from .errors import IntegrationFailed, MechanicsError, ModelError, PainleveParadox
 from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, transition
 from .model import Model
 from .mode_system import Motion
@@ -588,6 +588,7 @@ class Simulation:
         if reason:
             raise IntegrationFailed(ode.t, mode.label(), reason,
                                     None if self.model.source == "<api>" else self.model.source)
+        self._explain_servo(ode, mode)
         for name, cs in mode.contacts:
             if cs.state != SLIDE:
                 continue
@@ -601,6 +602,39 @@ class Simulation:
                     f"Painleve paradox at contact '{name}': the integration stalled while the "
                     f"effective normal compliance b = {b:.3g} of the sliding contact vanished -- the "
                     "normal force grows without bound (dynamic jamming)", ode.t, state)
+
+    def _explain_servo(self, ode, mode: Mode) -> None:
+        """A servo- or quasi-ideal constraint whose reaction stops realizing it (``G M^-1 B``
+        singular: the control direction turns orthogonal, in the metric of M, to the program's
+        gradient, and the control force grows without bound) stalls the integration: say so,
+        naming the constraints (exit code 3)."""
+        kernel, n = self.kernel, self.n
+        rows = self.solver.rows(mode)
+        if not any(kernel.rows[i].reaction_kind != "ideal" for i in rows):
+            return
+        q, qd = ode.y[:n], ode.y[n:2 * n]
+        out = kernel.dynamics(self.solver.input(ode.t, q, qd))
+        M, G, B = (np.asarray(out[k], dtype=float) for k in ("M", "G", "B"))
+        try:
+            Minv_B = np.linalg.solve(M, B[:, rows])
+        except np.linalg.LinAlgError:  # pragma: no cover - M singular is diagnosed elsewhere
+            return
+        _, sv, Vt = np.linalg.svd(G[rows] @ Minv_B)
+        # relative to what G M^-1 B would be with the reactions along the gradients
+        scale = np.linalg.norm(G[rows]) * np.linalg.norm(Minv_B)
+        if sv[-1] > 1e-6 * max(scale, 1e-300):
+            return
+        w = Vt[-1]
+        involved = [kernel.rows[i].name for k, i in enumerate(rows)
+                    if abs(w[k]) > 1e-3 * np.max(np.abs(w)) and kernel.rows[i].reaction_kind != "ideal"]
+        state = dict(zip(self.model.coordinates, q))
+        state.update({c + "'": float(v) for c, v in zip(self.model.coordinates, qd)})
+        raise MechanicsError(
+            f"the servo/quasi-ideal constraint(s) {', '.join(repr(x) for x in involved)} stop being "
+            f"realizable at t = {ode.t:.10g}: G M^-1 B is singular there (smallest singular value "
+            f"{sv[-1]:.3g}, {sv[-1] / scale:.2g} of its scale) -- the control direction has turned orthogonal, in the "
+            "metric of M, to the program's gradient, and the control force needed grows without "
+            "bound; the programmed motion cannot be continued with this control", ode.t, state)
 
     @staticmethod
     def _residuals(motion: Motion, mode: Mode, drift):
