@@ -1,0 +1,199 @@
+"""Command-line robustness (red-team findings): outputs through symbolic links and into files
+that are not regular files (a FIFO, /dev/null, a descriptor of the process) without replacing
+them, write errors reported as bad input, times and tolerances that must be finite and in
+range, malformed lists in options, extra arguments.
+
+Safety: the only device node used is /dev/null (and it is restored if a regression replaced
+it); nothing here writes to /dev/full or any other device."""
+
+import errno
+import json
+import os
+import socket
+import stat
+import threading
+from pathlib import Path
+
+import pytest
+
+from cli_helpers import run_cli
+from nonideal import cli
+from nonideal.cli import main
+
+DATA = Path(__file__).parent / "data"
+PENDULUM = DATA / "pendulum_xy.toml"
+BLOCK = DATA / "friction" / "spring_rough_floor.toml"
+SHORT = ("--t-end", "0.1")
+# a block on a rough floor held by a spring: it sticks after one swing, and asked to run to
+# t = 1e300 the integration fails near t = 2.4e15 -- with NumPy overflow warnings on the way
+STUCK_BLOCK = """
+[model]
+name = "block on a rough floor with a spring"
+[parameters]
+m = 1.0
+k = 10.0
+g = 9.81
+mu = 0.3
+[coordinates]
+q = ["x", "y"]
+[energy]
+kinetic = "m/2*(x'^2 + y'^2)"
+potential = "k/2*x^2 + m*g*y"
+[[contacts]]
+name = "floor"
+gap = "y"
+slip = ["x'"]
+mu = "mu"
+[initial]
+x = 0.4
+y = 0
+"x'" = 0
+"y'" = 0
+"""
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def entries(directory: Path) -> list[str]:
+    return sorted(p.name for p in directory.iterdir())
+
+
+# ------------------------------------------------------------------ outputs: links and nodes
+
+
+def test_output_through_a_symlink_writes_the_target_and_keeps_the_link(tmp_path):
+    (tmp_path / "target.json").write_text("previous result")
+    (tmp_path / "links").mkdir()
+    link = tmp_path / "links" / "link.json"
+    link.symlink_to("../target.json")
+    out = run_cli("simulate", PENDULUM, *SHORT, "--json", "links/link.json", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert link.is_symlink() and os.readlink(link) == "../target.json"
+    assert "diagnostics" in json.loads((tmp_path / "target.json").read_text())
+    assert entries(tmp_path / "links") == ["link.json"]      # no temporary file left
+
+
+def test_output_through_a_dangling_symlink_creates_its_target(tmp_path):
+    link = tmp_path / "out.csv"
+    link.symlink_to("results/run.csv")
+    out = run_cli("simulate", PENDULUM, *SHORT, "--csv", "out.csv", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert link.is_symlink()
+    assert (tmp_path / "results" / "run.csv").read_text().startswith("t,")
+
+
+def test_failed_run_leaves_a_symlinks_target_alone(tmp_path):
+    (tmp_path / "target.json").write_text("previous result")
+    (tmp_path / "link.json").symlink_to("target.json")
+    out = run_cli("simulate", DATA / "blowup.toml", "--json", "link.json", cwd=tmp_path)
+    assert out.returncode == 2
+    assert (tmp_path / "link.json").is_symlink()
+    assert (tmp_path / "target.json").read_text() == "previous result"
+
+
+def test_symlink_loop_is_bad_input(tmp_path):
+    (tmp_path / "a.json").symlink_to("b.json")
+    (tmp_path / "b.json").symlink_to("a.json")
+    out = run_cli("simulate", PENDULUM, *SHORT, "--json", "a.json", cwd=tmp_path)
+    assert out.returncode == 2 and out.stdout == ""
+    assert "--json a.json: cannot write: Too many levels of symbolic links" in out.stderr
+    assert "Traceback" not in out.stderr
+    assert (tmp_path / "a.json").is_symlink() and (tmp_path / "b.json").is_symlink()
+
+
+def test_output_into_a_fifo_keeps_the_fifo(tmp_path):
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    received = []
+
+    def reader():
+        with open(fifo, "rb") as f:
+            received.append(f.read())
+
+    thread = threading.Thread(target=reader, daemon=True)
+    thread.start()
+    try:
+        out = run_cli("simulate", PENDULUM, *SHORT, "--csv", fifo, timeout=120)
+    finally:
+        if thread.is_alive():       # the CLI never opened the FIFO: unblock the reader
+            os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
+        thread.join(10)
+    assert out.returncode == 0, out.stderr
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    assert received and received[0].startswith(b"t,")
+    assert entries(tmp_path) == ["pipe.csv"]
+
+
+def _restore_dev_null():
+    """A regression must not leave the machine without /dev/null."""
+    if not stat.S_ISCHR(os.lstat("/dev/null").st_mode) and os.geteuid() == 0:
+        os.unlink("/dev/null")
+        os.mknod("/dev/null", stat.S_IFCHR | 0o666, os.makedev(1, 3))
+        os.chmod("/dev/null", 0o666)
+
+
+def test_output_into_dev_null_keeps_the_device():
+    assert stat.S_ISCHR(os.lstat("/dev/null").st_mode)
+    try:
+        out = run_cli("simulate", PENDULUM, *SHORT, "--json", "/dev/null")
+    finally:
+        restored = not stat.S_ISCHR(os.lstat("/dev/null").st_mode)
+        _restore_dev_null()
+    assert not restored, "/dev/null was replaced by a regular file"
+    assert out.returncode == 0, out.stderr
+    assert (out.stdout, out.stderr) == ("", "")
+
+
+def test_output_into_a_descriptor_of_the_process():
+    # /dev/fd/1 is standard output, here a pipe: the JSON arrives through it
+    out = run_cli("simulate", PENDULUM, *SHORT, "--json", "/dev/fd/1")
+    assert out.returncode == 0, out.stderr
+    assert "diagnostics" in json.loads(out.stdout)
+
+
+def test_unwritable_special_file_is_bad_input_and_writes_nothing_else(tmp_path):
+    # a socket cannot be opened for writing: the error comes when the outputs are committed,
+    # after the run, and the regular output must not have been written either
+    path = tmp_path / "s"
+    server = socket.socket(socket.AF_UNIX)
+    try:
+        server.bind(str(path))
+        out = run_cli("simulate", PENDULUM, *SHORT, "--json", tmp_path / "out.json",
+                      "--csv", path)
+    finally:
+        server.close()
+    assert out.returncode == 2 and out.stdout == ""
+    assert f"--csv {path}: cannot write: No such device or address" in out.stderr
+    assert stat.S_ISSOCK(os.lstat(path).st_mode)
+    assert entries(tmp_path) == ["s"]
+
+
+def test_write_error_names_the_path(capsys, tmp_path, monkeypatch):
+    # what /dev/full does (ENOSPC), simulated: the device itself is never used in the tests
+    def full(data, target):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(cli, "_write_into", full)
+    code, out, err = run(capsys, "simulate", PENDULUM, *SHORT, "--json", "/dev/null",
+                         "--csv", tmp_path / "out.csv")
+    assert code == 2 and out == ""
+    assert "--json /dev/null: cannot write: No space left on device" in err
+    assert entries(tmp_path) == []
+
+
+def test_parent_that_is_a_file_is_named(tmp_path):
+    (tmp_path / "h.py").write_text("# a file, not a directory\n")
+    out = run_cli("simulate", PENDULUM, *SHORT, "--json", "h.py/a.json", cwd=tmp_path)
+    assert out.returncode == 2 and out.stdout == ""
+    assert "--json h.py/a.json: cannot write: h.py is not a directory" in out.stderr
+    assert entries(tmp_path) == ["h.py"]
+
+
+def test_missing_directories_are_still_created(capsys, tmp_path):
+    code, _, err = run(capsys, "simulate", PENDULUM, *SHORT, "--json", tmp_path / "new" / "sub" / "a.json")
+    assert code == 0, err
+    assert json.loads((tmp_path / "new" / "sub" / "a.json").read_text())["t"][0] == 0
