@@ -11,6 +11,7 @@ file (through symbolic links, onto their final target), written into anything el
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import json
 import math
@@ -18,6 +19,7 @@ import os
 import stat
 import sys
 import tempfile
+import warnings
 from pathlib import Path
 
 from .errors import MechanicsError, ModelError, NonidealError, did_you_mean
@@ -162,9 +164,41 @@ class _Outputs:
                     os.unlink(tmp)
 
 
-def _check_outputs(args, model_spec: str) -> None:
-    """Reject output paths that collide with each other or with the model file, paths that
-    cannot be files, and plot formats matplotlib cannot write -- before any work is done."""
+#: the smallest relative tolerance: SciPy's integrators raise a smaller one to 100 machine
+#: epsilons (2.22e-14) with a warning; rounded up so that the number shown is accepted
+RTOL_MIN = 2.3e-14
+
+
+def _check_options(args) -> None:
+    """Check the numbers and the output paths of the command line before any work is done;
+    report every problem at once."""
+    problems = _number_problems(args) + _output_problems(args, args.model)
+    if problems:
+        raise ModelError(problems)
+
+
+def _number_problems(args) -> list[str]:
+    """Times must be finite numbers; tolerances in the range the integrators accept."""
+    problems = []
+    for key, example in (("t", "0.5"), ("t_end", "2")):
+        value = getattr(args, key, None)
+        if value is not None and not math.isfinite(value):
+            flag = "--" + key.replace("_", "-")
+            problems.append(f"{flag}: must be a finite number, e.g. {flag} {example} (got {value})")
+    rtol = getattr(args, "rtol", None)
+    if rtol is not None and not RTOL_MIN <= rtol < 1:
+        problems.append(f"--rtol: must be a number in [{RTOL_MIN:g}, 1) (about 100 machine "
+                        "epsilons, the finest the integrators honour, up to 1), e.g. 1e-9 "
+                        f"(got {rtol!r})")
+    atol = getattr(args, "atol", None)
+    if atol is not None and not 0 < atol < 1:
+        problems.append(f"--atol: must be a number in (0, 1), e.g. 1e-9 (got {atol!r})")
+    return problems
+
+
+def _output_problems(args, model_spec: str) -> list[str]:
+    """Output paths that collide with each other or with the model file, paths that cannot
+    be files, and plot formats matplotlib cannot write."""
     problems = []
     seen: dict[Path, str] = {}
     model_path = Path(model_spec).resolve() if Path(model_spec).is_file() else None
@@ -201,8 +235,7 @@ def _check_outputs(args, model_spec: str) -> None:
         if suffix not in formats:
             problems.append(f"--plot {plot}: matplotlib cannot write '.{suffix}' files; use one "
                             f"of {', '.join('.' + f for f in sorted(formats))}")
-    if problems:
-        raise ModelError(problems)
+    return problems
 
 
 def _emit_json(args, payload: dict, outputs: _Outputs) -> None:
@@ -355,6 +388,28 @@ def _contact_states(items, model) -> dict[str, str]:
     return out
 
 
+@contextlib.contextmanager
+def _numerical_warnings():
+    """NumPy's floating-point warnings during a command (overflow on the way to a blow-up)
+    carry a source path and a line of code that mean nothing to the user: when the command
+    fails they are dropped -- its error explains the failure -- and when it succeeds each is
+    shown once, as one line.  Other warnings are shown as usual."""
+    caught: list = []
+    failed = True
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            yield
+        failed = False
+    finally:
+        seen = set()
+        for w in caught:
+            if not issubclass(w.category, RuntimeWarning):
+                warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+            elif not failed and str(w.message) not in seen:
+                seen.add(str(w.message))
+                print(f"warning: {w.message}", file=sys.stderr)
+
+
 def _explained(model, exc: MechanicsError) -> Exception:
     """A singular mass matrix or dependent constraints are bad input, not a paradox: when
     the mode selection reports "no consistent mode" and the initial state is singular, say
@@ -373,7 +428,7 @@ def _explained(model, exc: MechanicsError) -> Exception:
 def cmd_check(args) -> int:
     from .checks import check_model
 
-    _check_outputs(args, args.model)
+    _check_options(args)
     model = _load(args.model)
     report = check_model(model)
     outputs = _Outputs()
@@ -388,7 +443,7 @@ def cmd_check(args) -> int:
 def cmd_derive(args) -> int:
     from .formalisms import derive
 
-    _check_outputs(args, args.model)
+    _check_options(args)
     model = _load(args.model)
     independent = _independent(args.independent, model)
     states = _contact_states(args.contact, model)
@@ -419,7 +474,7 @@ def cmd_derive(args) -> int:
 def cmd_evaluate(args) -> int:
     from .evaluation import evaluate
 
-    _check_outputs(args, args.model)
+    _check_options(args)
     model = _load(args.model)
     at = _parse_at(model, args.at)
     independent = _independent(args.independent, model)
@@ -439,11 +494,7 @@ def cmd_evaluate(args) -> int:
 def cmd_simulate(args) -> int:
     from .simulation import simulate
 
-    _check_outputs(args, args.model)
-    for key in ("rtol", "atol"):
-        value = getattr(args, key)
-        if value is not None and not (0 < value < 1 and math.isfinite(value)):
-            raise ModelError(f"--{key}: must be a number in (0, 1), e.g. 1e-9 (got {value!r})")
+    _check_options(args)
     model = _load(args.model)
     times = _times(args.times) if args.times is not None else None
     if args.t_end is not None and not args.t_end > model.t0:
@@ -519,7 +570,7 @@ def cmd_simulate(args) -> int:
 def cmd_realizability(args) -> int:
     from .realizability import realizability, realizability_along
 
-    _check_outputs(args, args.model)
+    _check_options(args)
     model = _load(args.model)
     contacts = [c.strip() for c in args.contact.split(",")] if args.contact else None
     if args.along:
@@ -541,7 +592,7 @@ def cmd_realizability(args) -> int:
 def cmd_friction_law(args) -> int:
     from .friction_law import friction_law
 
-    _check_outputs(args, args.model)
+    _check_options(args)
     model = _load(args.model)
     law = friction_law(model, args.contact, args.direction,
                        substitutions=_substitutions(args.substitute, model),
@@ -724,7 +775,8 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:   # --help (0) or a usage error (2): return, do not exit
         return int(exc.code or 0)
     try:
-        return args.func(args)
+        with _numerical_warnings():
+            return args.func(args)
     except ModelError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return exc.exit_code

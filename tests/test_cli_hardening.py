@@ -197,3 +197,66 @@ def test_missing_directories_are_still_created(capsys, tmp_path):
     code, _, err = run(capsys, "simulate", PENDULUM, *SHORT, "--json", tmp_path / "new" / "sub" / "a.json")
     assert code == 0, err
     assert json.loads((tmp_path / "new" / "sub" / "a.json").read_text())["t"][0] == 0
+
+
+# ------------------------------------------------------------------ numbers
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["simulate", PENDULUM, "--t-end", "inf"], "--t-end: must be a finite number"),
+    (["simulate", PENDULUM, "--t-end", "nan"], "--t-end: must be a finite number"),
+    (["simulate", PENDULUM, "--t-end", "1e400"], "--t-end: must be a finite number"),
+    (["evaluate", PENDULUM, "--t", "nan"], "--t: must be a finite number"),
+    (["evaluate", PENDULUM, "--t=-inf"], "--t: must be a finite number"),
+    (["realizability", BLOCK, "--t", "inf"], "--t: must be a finite number"),
+    (["simulate", PENDULUM, "--rtol", "1e-300"], "--rtol: must be a number in [2.3e-14, 1)"),
+    (["simulate", PENDULUM, "--rtol", "nan"], "--rtol: must be a number in [2.3e-14, 1)"),
+    (["simulate", PENDULUM, "--atol", "nan"], "--atol: must be a number in (0, 1)"),
+])
+def test_times_and_tolerances_must_be_finite_and_in_range(capsys, tmp_path, argv, message):
+    code, out, err = run(capsys, *argv, "--json", tmp_path / "out.json")
+    assert code == 2 and out == ""
+    assert message in err
+    assert "Warning" not in err
+    assert entries(tmp_path) == []
+
+
+def test_every_bad_number_is_reported_at_once(capsys):
+    code, _, err = run(capsys, "simulate", PENDULUM, "--t-end", "nan", "--rtol", "1e-20",
+                       "--atol", "0")
+    assert code == 2
+    assert "--t-end: must be a finite number" in err
+    assert "--rtol: must be a number in [2.3e-14, 1)" in err
+    assert "--atol: must be a number in (0, 1)" in err
+
+
+def test_smallest_rtol_runs_without_a_warning():
+    out = run_cli("simulate", PENDULUM, *SHORT, "--rtol", "2.3e-14")
+    assert out.returncode == 0, out.stderr
+    assert out.stderr == ""
+
+
+def test_huge_end_time_fails_without_numpy_warnings(tmp_path):
+    # finite but far beyond what the integration reaches: the error explains, no
+    # RuntimeWarning with a source path on the way
+    model = tmp_path / "block.toml"
+    model.write_text(STUCK_BLOCK)
+    out = run_cli("simulate", model, "--times", "0,1e300", "--json", tmp_path / "out.json")
+    assert out.returncode == 2
+    assert "integration failed" in out.stderr
+    assert "RuntimeWarning" not in out.stderr and ".py:" not in out.stderr
+    assert entries(tmp_path) == ["block.toml"]
+
+
+def test_numerical_warnings_of_a_successful_command_are_one_clean_line(capsys, monkeypatch):
+    import numpy as np
+
+    def noisy(args):
+        np.float64(1e308) * np.float64(10)
+        np.float64(1e308) * np.float64(10)
+        return 0
+
+    monkeypatch.setattr(cli, "cmd_check", noisy)
+    code, out, err = run(capsys, "check", PENDULUM)
+    assert code == 0
+    assert err == "warning: overflow encountered in scalar multiply\n"
