@@ -249,10 +249,17 @@ def _emit_json(args, payload: dict, outputs: _Outputs) -> None:
 def _times(text: str) -> list[float]:
     """``--times 0,0.5,1``: finite, strictly increasing numbers."""
     parts = [p.strip() for p in text.replace(";", ",").split(",")]
+    if not any(parts):
+        raise ModelError(f"--times: no times given (got {text!r}); write comma-separated "
+                         "numbers, e.g. --times 0,0.5,1")
+    empty = [k + 1 for k, p in enumerate(parts) if not p]
+    if empty:
+        raise ModelError(f"--times: item{'s' if len(empty) > 1 else ''} "
+                         f"{', '.join(map(str, empty))} of {len(parts)} "
+                         f"{'are' if len(empty) > 1 else 'is'} empty (got {text!r}); write one "
+                         "number between each pair of commas, e.g. --times 0,0.5,1")
     values, bad = [], []
     for p in parts:
-        if not p:
-            continue
         try:
             v = float(p)
         except ValueError:
@@ -266,9 +273,6 @@ def _times(text: str) -> list[float]:
         raise ModelError(f"--times: {', '.join(repr(b) for b in bad)} "
                          f"{'is not a finite number' if len(bad) == 1 else 'are not finite numbers'}"
                          f"; write comma-separated numbers, e.g. --times 0,0.5,1 (got {text!r})")
-    if not values:
-        raise ModelError(f"--times: no times given (got {text!r}); write comma-separated "
-                         "numbers, e.g. --times 0,0.5,1")
     for a, b in zip(values, values[1:]):
         if not b > a:
             raise ModelError(f"--times: the times must increase strictly, but {b:g} follows "
@@ -327,15 +331,41 @@ def _parse_at(model, text: str | None) -> dict[str, float]:
     return out
 
 
-def _independent(text: str | None, model) -> tuple[str, ...] | None:
-    if not text:
+def _independent(text: str | None, model, form: str) -> tuple[str, ...] | None:
+    """``--independent x,theta``: distinct coordinates, for a form that has independent ones."""
+    from .formalisms import FORMS
+
+    if text is None:
         return None
-    names = tuple(s.strip() for s in text.split(",") if s.strip())
-    bad = [n for n in names if n not in model.coordinates]
-    if bad:
-        raise ModelError([f"--independent: '{n}' is not a coordinate"
-                          f"{did_you_mean(n, model.coordinates)}; coordinates: "
-                          + ", ".join(model.coordinates) for n in bad])
+    reduced = [f for f in FORMS if f != "lagrange1"]
+    if form not in reduced:
+        raise ModelError(f"--independent: the form {form} keeps every coordinate (its unknowns "
+                         "are all the accelerations, with the constraints' multipliers), so it "
+                         "has no independent coordinates to choose; drop --independent or use a "
+                         f"reduced form: --form {', '.join(reduced)}")
+    parts = [s.strip() for s in text.split(",")]
+    if not any(parts):
+        raise ModelError(f"--independent: no coordinates given (got {text!r}); write "
+                         "comma-separated coordinate names, e.g. --independent "
+                         f"{model.coordinates[0]}")
+    problems = []
+    empty = [k + 1 for k, n in enumerate(parts) if not n]
+    if empty:
+        problems.append(f"--independent: item{'s' if len(empty) > 1 else ''} "
+                        f"{', '.join(map(str, empty))} of {len(parts)} "
+                        f"{'are' if len(empty) > 1 else 'is'} empty (got {text!r}); write one "
+                        "coordinate name between each pair of commas")
+    names = tuple(n for n in parts if n)
+    for n in dict.fromkeys(names):
+        if n not in model.coordinates:
+            problems.append(f"--independent: '{n}' is not a coordinate"
+                            f"{did_you_mean(n, model.coordinates)}; coordinates: "
+                            + ", ".join(model.coordinates))
+        elif names.count(n) > 1:
+            problems.append(f"--independent: '{n}' is given {names.count(n)} times; name each "
+                            "independent coordinate once")
+    if problems:
+        raise ModelError(problems)
     return names
 
 
@@ -445,7 +475,7 @@ def cmd_derive(args) -> int:
 
     _check_options(args)
     model = _load(args.model)
-    independent = _independent(args.independent, model)
+    independent = _independent(args.independent, model, args.form)
     states = _contact_states(args.contact, model)
     if args.friction == "painleve":
         from .friction_law import painleve_model, touching_contacts
@@ -477,7 +507,7 @@ def cmd_evaluate(args) -> int:
     _check_options(args)
     model = _load(args.model)
     at = _parse_at(model, args.at)
-    independent = _independent(args.independent, model)
+    independent = _independent(args.independent, model, args.form)
     try:
         ev = evaluate(model, at=at, t=args.t, form=args.form, independent=independent)
     except MechanicsError as exc:
@@ -571,11 +601,17 @@ def cmd_realizability(args) -> int:
     from .realizability import realizability, realizability_along
 
     _check_options(args)
+    if args.t_end is not None and not args.along:
+        raise ModelError("--t-end: is the end of the motion followed by --along; add --along, "
+                         "or drop --t-end (for one state give --at and --t)")
     model = _load(args.model)
     contacts = [c.strip() for c in args.contact.split(",")] if args.contact else None
     if args.along:
-        if args.at:
-            raise ModelError("--along follows the motion from the model's initial state; drop --at")
+        if args.at or args.t is not None:
+            raise ModelError("--along follows the motion from the model's initial state; drop "
+                             + ("--at" if args.at else "--t"))
+        if args.t_end is not None and not args.t_end > model.t0:
+            raise ModelError(f"--t-end: must be later than t0 = {model.t0:g} (got {args.t_end:g})")
         report = realizability_along(model, t_end=args.t_end)
     else:
         at = _parse_at(model, args.at)
@@ -612,6 +648,10 @@ def cmd_examples(args) -> int:
     from . import gallery
 
     if args.action == "list":
+        if args.name is not None:
+            name = args.name if args.name in gallery.names() else "NAME"
+            raise ModelError(f"examples list takes no name (got '{args.name}'); to see one "
+                             f"example: nonideal examples show {name}")
         for name in gallery.names():
             print(f"{name:28} {gallery.module(name).TITLE}")
         return 0

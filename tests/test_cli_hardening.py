@@ -260,3 +260,64 @@ def test_numerical_warnings_of_a_successful_command_are_one_clean_line(capsys, m
     code, out, err = run(capsys, "check", PENDULUM)
     assert code == 0
     assert err == "warning: overflow encountered in scalar multiply\n"
+
+
+# ------------------------------------------------------------------ lists and arguments
+
+
+@pytest.mark.parametrize("times, message", [
+    ("0,,0.5", "--times: item 2 of 3 is empty (got '0,,0.5')"),
+    ("0,0.5,", "--times: item 3 of 3 is empty"),
+    (",0.5", "--times: item 1 of 2 is empty"),
+])
+def test_empty_time_is_named(capsys, tmp_path, times, message):
+    code, out, err = run(capsys, "simulate", PENDULUM, f"--times={times}",
+                         "--json", tmp_path / "out.json")
+    assert code == 2 and out == ""
+    assert message in err
+    assert entries(tmp_path) == []
+
+
+@pytest.mark.parametrize("argv, messages", [
+    (["derive", PENDULUM, "--form", "maggi", "--independent", "x,x"],
+     ["--independent: 'x' is given 2 times; name each independent coordinate once"]),
+    (["derive", PENDULUM, "--form", "maggi", "--independent", "x,,theta"],
+     ["--independent: item 2 of 3 is empty", "--independent: 'theta' is not a coordinate"]),
+    (["derive", PENDULUM, "--form", "maggi", "--independent", ""],
+     ["--independent: no coordinates given"]),
+    (["derive", PENDULUM, "--independent", "x"],
+     ["--independent: the form lagrange1 keeps every coordinate",
+      "drop --independent or use a reduced form: --form lagrange2, maggi, appell, shulgin"]),
+    (["evaluate", PENDULUM, "--independent", "x"],
+     ["--independent: the form lagrange1 keeps every coordinate"]),
+    (["evaluate", PENDULUM, "--form", "gauss", "--independent", "x"],
+     ["--independent: the form gauss keeps every coordinate"]),
+])
+def test_independent_coordinates_are_checked(capsys, argv, messages):
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == ""
+    for message in messages:
+        assert message in err
+
+
+def test_independent_coordinate_for_a_reduced_form_still_works(capsys):
+    code, out, err = run(capsys, "derive", PENDULUM, "--form", "maggi", "--independent", "x")
+    assert code == 0, err
+    assert "independent velocities: x'" in out
+
+
+def test_examples_list_takes_no_name(capsys):
+    code, out, err = run(capsys, "examples", "list", "foo")
+    assert code == 2 and out == ""
+    assert "examples list takes no name (got 'foo')" in err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--t-end", "1"], "--t-end: is the end of the motion followed by --along"),
+    (["--along", "--t-end", "-1"], "--t-end: must be later than t0 = 0 (got -1)"),
+    (["--along", "--t", "1"], "--along follows the motion from the model's initial state; drop --t"),
+])
+def test_realizability_options_that_do_not_go_together(capsys, argv, message):
+    code, out, err = run(capsys, "realizability", BLOCK, *argv)
+    assert code == 2 and out == ""
+    assert message in err
