@@ -3,17 +3,23 @@
 Exit codes: 0 success; 2 bad input (the message names the file, the key and the fix);
 3 the mechanics has no consistent or no unique answer.  Nothing is written to an output path
 unless the run succeeded: the options are checked before any work, outputs are produced into
-temporary files next to their destinations and renamed only when every one of them is ready.
+temporary files and committed only when every one of them is ready -- renamed over a regular
+file (through symbolic links, onto their final target), written into anything else
+(``/dev/null``, a FIFO, ``/dev/stdout``), which is never replaced.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import errno
 import json
 import math
 import os
+import stat
 import sys
 import tempfile
+import warnings
 from pathlib import Path
 
 from .errors import MechanicsError, ModelError, NonidealError, did_you_mean
@@ -52,8 +58,62 @@ def _load(spec: str):
                      "list')")
 
 
+def _destination(path: Path) -> tuple[Path, bool]:
+    """Where a write to *path* lands: the final target of its symbolic links (in any of its
+    components), and whether that is one of this process's file descriptors (``/dev/stdout``,
+    ``/dev/fd/N``, ``/proc/self/fd/N``: a file to write into, never to replace).
+
+    Raises OSError (ELOOP) for a loop of symbolic links."""
+    current = path if path.is_absolute() else Path.cwd() / path
+    for _ in range(40):
+        parent = Path(os.path.realpath(current.parent))
+        current = parent / current.name
+        if parent.parts[:2] == ("/", "proc"):
+            return current, True
+        if not current.is_symlink():
+            return current, False
+        current = parent / os.readlink(current)
+    raise OSError(errno.ELOOP, os.strerror(errno.ELOOP), str(path))
+
+
+def _stat(path: Path) -> os.stat_result | None:
+    try:
+        return os.stat(path)
+    except FileNotFoundError:
+        return None
+
+
+def _write_into(data: bytes, target: Path) -> None:
+    """Write *data* into an existing file that is not replaced: a device (``/dev/null``), a
+    FIFO, a terminal, or a file descriptor of this process (written through the descriptor
+    itself, so that ``--json /dev/stdout`` works whatever standard output is)."""
+    parts = target.parts
+    own = (len(parts) == 5 and parts[:2] == ("/", "proc") and parts[2] == str(os.getpid())
+           and parts[3] == "fd" and parts[4].isdigit())
+    if own:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        fd, close = int(parts[4]), False
+    else:
+        fd, close = os.open(target, os.O_WRONLY), True   # no O_CREAT: never make a new node
+    try:
+        if close and stat.S_ISREG(os.fstat(fd).st_mode):
+            os.ftruncate(fd, 0)
+        view = memoryview(data)
+        while view:
+            view = view[os.write(fd, view):]
+    finally:
+        if close:
+            os.close(fd)
+
+
 class _Outputs:
-    """Collects output files and writes them only when everything succeeded."""
+    """Collects output files and writes them only when everything succeeded.
+
+    Each output is produced into a temporary file first.  A regular file (or a new one) is
+    then replaced atomically -- the final target of a symbolic link, never the link itself,
+    in the target's directory; an existing file that is not a regular file (``/dev/null``, a
+    FIFO, a terminal, ``/dev/stdout``) is written into, never replaced."""
 
     def __init__(self):
         self.pending: list[tuple[str, Path, object]] = []
@@ -62,44 +122,98 @@ class _Outputs:
         self.pending.append((option, Path(path), producer))
 
     def commit(self) -> None:
-        staged = []
+        staged = []     # (option, path, temporary file, target, write into the target?)
         try:
             for option, path, producer in self.pending:
                 try:
-                    path.parent.mkdir(parents=True, exist_ok=True)
+                    target, descriptor = _destination(path)
+                    info = _stat(target)
+                    if info is not None and stat.S_ISDIR(info.st_mode):
+                        raise ModelError(f"{option} {path}: is a directory; give a file name")
+                    into = descriptor or (info is not None and not stat.S_ISREG(info.st_mode))
+                    if not into:
+                        target.parent.mkdir(parents=True, exist_ok=True)
                     fd, tmp = tempfile.mkstemp(prefix=".nonideal-", suffix=path.suffix,
-                                               dir=path.parent)
+                                               dir=None if into else target.parent)
                     os.close(fd)
-                    staged.append((tmp, path))
+                    staged.append((option, path, tmp, target, into))
                     producer(tmp)
                 except OSError as exc:
                     raise ModelError(f"{option} {path}: cannot write: "
                                      f"{exc.strerror or exc}") from None
                 except ValueError as exc:   # e.g. an image format matplotlib does not know
                     raise ModelError(f"{option} {path}: cannot write: {exc}") from None
+            # the files written into first: that cannot be undone, and when it fails (a full
+            # device, a socket) the regular outputs are left as they were
+            for option, path, tmp, target, into in staged:
+                if into:
+                    try:
+                        _write_into(Path(tmp).read_bytes(), target)
+                    except OSError as exc:
+                        raise ModelError(f"{option} {path}: cannot write: "
+                                         f"{exc.strerror or exc}") from None
             mask = os.umask(0)      # mkstemp creates 0600: give the files the usual mode
             os.umask(mask)
-            for tmp, path in staged:
-                os.chmod(tmp, 0o666 & ~mask)
-                os.replace(tmp, path)
+            for option, path, tmp, target, into in staged:
+                if not into:
+                    os.chmod(tmp, 0o666 & ~mask)
+                    os.replace(tmp, target)
         finally:
-            for tmp, _ in staged:
+            for _, _, tmp, _, _ in staged:
                 if os.path.exists(tmp):
                     os.unlink(tmp)
 
 
-def _check_outputs(args, model_spec: str) -> None:
-    """Reject output paths that collide with each other or with the model file, and plot
-    formats matplotlib cannot write -- before any work is done."""
+#: the smallest relative tolerance: SciPy's integrators raise a smaller one to 100 machine
+#: epsilons (2.22e-14) with a warning; rounded up so that the number shown is accepted
+RTOL_MIN = 2.3e-14
+
+
+def _check_options(args) -> None:
+    """Check the numbers and the output paths of the command line before any work is done;
+    report every problem at once."""
+    problems = _number_problems(args) + _output_problems(args, args.model)
+    if problems:
+        raise ModelError(problems)
+
+
+def _number_problems(args) -> list[str]:
+    """Times must be finite numbers; tolerances in the range the integrators accept."""
+    problems = []
+    for key, example in (("t", "0.5"), ("t_end", "2")):
+        value = getattr(args, key, None)
+        if value is not None and not math.isfinite(value):
+            flag = "--" + key.replace("_", "-")
+            problems.append(f"{flag}: must be a finite number, e.g. {flag} {example} (got {value})")
+    rtol = getattr(args, "rtol", None)
+    if rtol is not None and not RTOL_MIN <= rtol < 1:
+        problems.append(f"--rtol: must be a number in [{RTOL_MIN:g}, 1) (about 100 machine "
+                        "epsilons, the finest the integrators honour, up to 1), e.g. 1e-9 "
+                        f"(got {rtol!r})")
+    atol = getattr(args, "atol", None)
+    if atol is not None and not 0 < atol < 1:
+        problems.append(f"--atol: must be a number in (0, 1), e.g. 1e-9 (got {atol!r})")
+    return problems
+
+
+def _output_problems(args, model_spec: str) -> list[str]:
+    """Output paths that collide with each other or with the model file, paths that cannot
+    be files, and plot formats matplotlib cannot write."""
     problems = []
     seen: dict[Path, str] = {}
-    model_path = Path(model_spec).resolve() if Path(model_spec).exists() else None
+    model_path = Path(model_spec).resolve() if Path(model_spec).is_file() else None
     for option in ("json", "csv", "plot"):
         value = getattr(args, option, None)
         if not value or value == "-":
             continue
         flag = f"--{option}"
-        path = Path(value).resolve()
+        try:
+            path, _ = _destination(Path(value))
+        except OSError as exc:
+            problems.append(f"{flag} {value}: cannot write: {exc.strerror}; fix the symbolic "
+                            "links or choose another path")
+            continue
+        blocker = next((a for a in Path(value).parents if a.exists()), None)
         if model_path is not None and path == model_path:
             problems.append(f"{flag} {value}: this is the model file itself; choose another "
                             "output path")
@@ -108,6 +222,9 @@ def _check_outputs(args, model_spec: str) -> None:
                             "its own file")
         elif path.is_dir():
             problems.append(f"{flag} {value}: is a directory; give a file name")
+        elif blocker is not None and not blocker.is_dir():
+            problems.append(f"{flag} {value}: cannot write: {blocker} is not a directory; "
+                            "choose another path")
         seen[path] = flag
     plot = getattr(args, "plot", None)
     if plot and Path(plot).suffix:
@@ -118,8 +235,7 @@ def _check_outputs(args, model_spec: str) -> None:
         if suffix not in formats:
             problems.append(f"--plot {plot}: matplotlib cannot write '.{suffix}' files; use one "
                             f"of {', '.join('.' + f for f in sorted(formats))}")
-    if problems:
-        raise ModelError(problems)
+    return problems
 
 
 def _emit_json(args, payload: dict, outputs: _Outputs) -> None:
@@ -133,10 +249,17 @@ def _emit_json(args, payload: dict, outputs: _Outputs) -> None:
 def _times(text: str) -> list[float]:
     """``--times 0,0.5,1``: finite, strictly increasing numbers."""
     parts = [p.strip() for p in text.replace(";", ",").split(",")]
+    if not any(parts):
+        raise ModelError(f"--times: no times given (got {text!r}); write comma-separated "
+                         "numbers, e.g. --times 0,0.5,1")
+    empty = [k + 1 for k, p in enumerate(parts) if not p]
+    if empty:
+        raise ModelError(f"--times: item{'s' if len(empty) > 1 else ''} "
+                         f"{', '.join(map(str, empty))} of {len(parts)} "
+                         f"{'are' if len(empty) > 1 else 'is'} empty (got {text!r}); write one "
+                         "number between each pair of commas, e.g. --times 0,0.5,1")
     values, bad = [], []
     for p in parts:
-        if not p:
-            continue
         try:
             v = float(p)
         except ValueError:
@@ -150,9 +273,6 @@ def _times(text: str) -> list[float]:
         raise ModelError(f"--times: {', '.join(repr(b) for b in bad)} "
                          f"{'is not a finite number' if len(bad) == 1 else 'are not finite numbers'}"
                          f"; write comma-separated numbers, e.g. --times 0,0.5,1 (got {text!r})")
-    if not values:
-        raise ModelError(f"--times: no times given (got {text!r}); write comma-separated "
-                         "numbers, e.g. --times 0,0.5,1")
     for a, b in zip(values, values[1:]):
         if not b > a:
             raise ModelError(f"--times: the times must increase strictly, but {b:g} follows "
@@ -211,15 +331,41 @@ def _parse_at(model, text: str | None) -> dict[str, float]:
     return out
 
 
-def _independent(text: str | None, model) -> tuple[str, ...] | None:
-    if not text:
+def _independent(text: str | None, model, form: str) -> tuple[str, ...] | None:
+    """``--independent x,theta``: distinct coordinates, for a form that has independent ones."""
+    from .formalisms import FORMS
+
+    if text is None:
         return None
-    names = tuple(s.strip() for s in text.split(",") if s.strip())
-    bad = [n for n in names if n not in model.coordinates]
-    if bad:
-        raise ModelError([f"--independent: '{n}' is not a coordinate"
-                          f"{did_you_mean(n, model.coordinates)}; coordinates: "
-                          + ", ".join(model.coordinates) for n in bad])
+    reduced = [f for f in FORMS if f != "lagrange1"]
+    if form not in reduced:
+        raise ModelError(f"--independent: the form {form} keeps every coordinate (its unknowns "
+                         "are all the accelerations, with the constraints' multipliers), so it "
+                         "has no independent coordinates to choose; drop --independent or use a "
+                         f"reduced form: --form {', '.join(reduced)}")
+    parts = [s.strip() for s in text.split(",")]
+    if not any(parts):
+        raise ModelError(f"--independent: no coordinates given (got {text!r}); write "
+                         "comma-separated coordinate names, e.g. --independent "
+                         f"{model.coordinates[0]}")
+    problems = []
+    empty = [k + 1 for k, n in enumerate(parts) if not n]
+    if empty:
+        problems.append(f"--independent: item{'s' if len(empty) > 1 else ''} "
+                        f"{', '.join(map(str, empty))} of {len(parts)} "
+                        f"{'are' if len(empty) > 1 else 'is'} empty (got {text!r}); write one "
+                        "coordinate name between each pair of commas")
+    names = tuple(n for n in parts if n)
+    for n in dict.fromkeys(names):
+        if n not in model.coordinates:
+            problems.append(f"--independent: '{n}' is not a coordinate"
+                            f"{did_you_mean(n, model.coordinates)}; coordinates: "
+                            + ", ".join(model.coordinates))
+        elif names.count(n) > 1:
+            problems.append(f"--independent: '{n}' is given {names.count(n)} times; name each "
+                            "independent coordinate once")
+    if problems:
+        raise ModelError(problems)
     return names
 
 
@@ -272,6 +418,28 @@ def _contact_states(items, model) -> dict[str, str]:
     return out
 
 
+@contextlib.contextmanager
+def _numerical_warnings():
+    """NumPy's floating-point warnings during a command (overflow on the way to a blow-up)
+    carry a source path and a line of code that mean nothing to the user: when the command
+    fails they are dropped -- its error explains the failure -- and when it succeeds each is
+    shown once, as one line.  Other warnings are shown as usual."""
+    caught: list = []
+    failed = True
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            yield
+        failed = False
+    finally:
+        seen = set()
+        for w in caught:
+            if not issubclass(w.category, RuntimeWarning):
+                warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+            elif not failed and str(w.message) not in seen:
+                seen.add(str(w.message))
+                print(f"warning: {w.message}", file=sys.stderr)
+
+
 def _explained(model, exc: MechanicsError) -> Exception:
     """A singular mass matrix or dependent constraints are bad input, not a paradox: when
     the mode selection reports "no consistent mode" and the initial state is singular, say
@@ -290,7 +458,7 @@ def _explained(model, exc: MechanicsError) -> Exception:
 def cmd_check(args) -> int:
     from .checks import check_model
 
-    _check_outputs(args, args.model)
+    _check_options(args)
     model = _load(args.model)
     report = check_model(model)
     outputs = _Outputs()
@@ -305,9 +473,9 @@ def cmd_check(args) -> int:
 def cmd_derive(args) -> int:
     from .formalisms import derive
 
-    _check_outputs(args, args.model)
+    _check_options(args)
     model = _load(args.model)
-    independent = _independent(args.independent, model)
+    independent = _independent(args.independent, model, args.form)
     states = _contact_states(args.contact, model)
     if args.friction == "painleve":
         from .friction_law import painleve_model, touching_contacts
@@ -336,10 +504,10 @@ def cmd_derive(args) -> int:
 def cmd_evaluate(args) -> int:
     from .evaluation import evaluate
 
-    _check_outputs(args, args.model)
+    _check_options(args)
     model = _load(args.model)
     at = _parse_at(model, args.at)
-    independent = _independent(args.independent, model)
+    independent = _independent(args.independent, model, args.form)
     try:
         ev = evaluate(model, at=at, t=args.t, form=args.form, independent=independent)
     except MechanicsError as exc:
@@ -356,11 +524,7 @@ def cmd_evaluate(args) -> int:
 def cmd_simulate(args) -> int:
     from .simulation import simulate
 
-    _check_outputs(args, args.model)
-    for key in ("rtol", "atol"):
-        value = getattr(args, key)
-        if value is not None and not (0 < value < 1 and math.isfinite(value)):
-            raise ModelError(f"--{key}: must be a number in (0, 1), e.g. 1e-9 (got {value!r})")
+    _check_options(args)
     model = _load(args.model)
     times = _times(args.times) if args.times is not None else None
     if args.t_end is not None and not args.t_end > model.t0:
@@ -436,12 +600,18 @@ def cmd_simulate(args) -> int:
 def cmd_realizability(args) -> int:
     from .realizability import realizability, realizability_along
 
-    _check_outputs(args, args.model)
+    _check_options(args)
+    if args.t_end is not None and not args.along:
+        raise ModelError("--t-end: is the end of the motion followed by --along; add --along, "
+                         "or drop --t-end (for one state give --at and --t)")
     model = _load(args.model)
     contacts = [c.strip() for c in args.contact.split(",")] if args.contact else None
     if args.along:
-        if args.at:
-            raise ModelError("--along follows the motion from the model's initial state; drop --at")
+        if args.at or args.t is not None:
+            raise ModelError("--along follows the motion from the model's initial state; drop "
+                             + ("--at" if args.at else "--t"))
+        if args.t_end is not None and not args.t_end > model.t0:
+            raise ModelError(f"--t-end: must be later than t0 = {model.t0:g} (got {args.t_end:g})")
         report = realizability_along(model, t_end=args.t_end)
     else:
         at = _parse_at(model, args.at)
@@ -458,7 +628,7 @@ def cmd_realizability(args) -> int:
 def cmd_friction_law(args) -> int:
     from .friction_law import friction_law
 
-    _check_outputs(args, args.model)
+    _check_options(args)
     model = _load(args.model)
     law = friction_law(model, args.contact, args.direction,
                        substitutions=_substitutions(args.substitute, model),
@@ -478,6 +648,10 @@ def cmd_examples(args) -> int:
     from . import gallery
 
     if args.action == "list":
+        if args.name is not None:
+            name = args.name if args.name in gallery.names() else "NAME"
+            raise ModelError(f"examples list takes no name (got '{args.name}'); to see one "
+                             f"example: nonideal examples show {name}")
         for name in gallery.names():
             print(f"{name:28} {gallery.module(name).TITLE}")
         return 0
@@ -641,7 +815,8 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:   # --help (0) or a usage error (2): return, do not exit
         return int(exc.code or 0)
     try:
-        return args.func(args)
+        with _numerical_warnings():
+            return args.func(args)
     except ModelError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return exc.exit_code

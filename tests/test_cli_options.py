@@ -145,7 +145,7 @@ def test_times_after_t_end(capsys):
 @pytest.mark.parametrize("argv, message", [
     (["--t-end", "0"], "--t-end: must be later than t0 = 0 (got 0)"),
     (["--t-end", "-1"], "--t-end: must be later than t0 = 0 (got -1)"),
-    (["--rtol", "0"], "--rtol: must be a number in (0, 1), e.g. 1e-9 (got 0.0)"),
+    (["--rtol", "0"], "--rtol: must be a number in [2.3e-14, 1)"),
     (["--atol", "2"], "--atol: must be a number in (0, 1)"),
     (["--t-end", "abc"], "argument --t-end: invalid float value: 'abc'"),
 ])
