@@ -470,11 +470,23 @@ def cmd_check(args) -> int:
     return 0
 
 
+def _well_posed_at_start(model) -> None:
+    """The equations are symbolic, but a negative mass or a kinetic energy that is not positive
+    definite at the initial state is bad input for them too (checked when the initial state
+    is complete; a model without one is derived as it is)."""
+    from .checks import diagnose_initial_state
+
+    problem = diagnose_initial_state(model, definite=True)
+    if problem is not None:
+        raise problem
+
+
 def cmd_derive(args) -> int:
     from .formalisms import derive
 
     _check_options(args)
     model = _load(args.model)
+    _well_posed_at_start(model)
     independent = _independent(args.independent, model, args.form)
     states = _contact_states(args.contact, model)
     if args.friction == "painleve":
@@ -818,6 +830,10 @@ def main(argv: list[str] | None = None) -> int:
         with _numerical_warnings():
             return args.func(args)
     except ModelError as exc:
+        model = getattr(args, "model", None)
+        if (exc.source is None and isinstance(model, str) and Path(model).is_file()
+                and not all(str(pr).startswith("--") for pr in exc.problems)):
+            exc = exc.with_source(model)  # an error found past the file's parsing names it too
         print(f"error: {exc}", file=sys.stderr)
         return exc.exit_code
     except MechanicsError as exc:

@@ -489,7 +489,11 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     for key in ("rtol", "atol"):
         if key in sim:
             value = check.number(sim, key, "[simulation]", None, positive=True)
-            if value is not None:
+            if value is not None and key == "rtol" and not 2.3e-14 <= float(value) < 1:
+                problems.append(f"[simulation] rtol: must be at least 2.3e-14 (100 times the "
+                                f"machine precision, the finest the integrators resolve) and below 1 "
+                                f"(got {float(value):g})")
+            elif value is not None:
                 settings[key] = float(value)
     if "method" in sim:
         if isinstance(sim["method"], str):

@@ -279,7 +279,7 @@ def test_negative_mass_is_bad_input_in_every_command(capsys, tmp_path, with_cont
         with pytest.raises(SingularSystem, match="kinetic energy is not positive definite.*along the velocity "
                            "combination x' it is negative"):
             run(model)
-    for command in ("check", "evaluate", "simulate"):
+    for command in ("check", "evaluate", "simulate", "derive"):
         code, out, err = cli(capsys, command, path, "--json", tmp_path / "out.json")
         assert code == 2 and err.rstrip().endswith("masses and moments of inertia of [[bodies]]"), command
         assert not (tmp_path / "out.json").exists()

@@ -376,3 +376,10 @@ def test_errors_found_when_deriving_name_the_file(tmp_path):
         check_model(load_model(path))
     assert str(info.value).startswith(f"{path}: constraint 'rod': transform matrix is singular")
     assert str(info.value).endswith("the transform must be an invertible n x n matrix")
+
+
+def test_simulation_tolerance_the_integrators_can_resolve(tmp_path):
+    path = _pendulum(tmp_path, "rtol.toml", edit=lambda s: s + "\n[simulation]\nrtol = 1e-300\n"
+                     if "[simulation]" not in s else s.replace("[simulation]", "[simulation]\nrtol = 1e-300", 1))
+    with pytest.raises(ModelError, match=r"\[simulation\] rtol: must be at least 2.3e-14 .* \(got 1e-300\)"):
+        load_model(path)
