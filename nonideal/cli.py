@@ -622,6 +622,11 @@ def cmd_realizability(args) -> int:
         if args.at or args.t is not None:
             raise ModelError("--along follows the motion from the model's initial state; drop "
                              + ("--at" if args.at else "--t"))
+        if contacts is not None:
+            raise ModelError("--contact: --along follows the motion with every touching contact "
+                             "in the state the motion gives it, and stops at the first slip or "
+                             "lift-off of any of them; drop --contact (or drop --along to assess "
+                             "chosen contacts at one state)")
         if args.t_end is not None and not args.t_end > model.t0:
             raise ModelError(f"--t-end: must be later than t0 = {model.t0:g} (got {args.t_end:g})")
         report = realizability_along(model, t_end=args.t_end)

@@ -42,3 +42,10 @@ def test_simulation_agrees_the_wedge_stays(model):
     assert np.max(np.abs(X)) < 1e-12
     F = np.array(tr.contacts["floor"]["friction"])[:, 0]
     assert np.allclose(np.abs(F), p["m"] * p["g"] * np.cos(p["alpha"]) * np.sin(p["alpha"]), rtol=1e-10)
+
+
+def test_contact_with_along_is_refused(capsys):
+    from nonideal.cli import main
+
+    assert main(["realizability", str(PATH), "--contact", "floor", "--along"]) == 2
+    assert "--contact: --along follows the motion" in capsys.readouterr().err
