@@ -27,7 +27,7 @@ from .errors import MechanicsError, ModelError, NonidealError, did_you_mean
 __all__ = ["main", "build_parser"]
 
 METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
-PLOT_SAMPLES = 601   # samples of a plotted run when --times is not given
+PLOT_SAMPLES = 601   # samples of a plotted or tabulated (--csv) run when --times is not given
 
 
 # ------------------------------------------------------------------------------ helpers
@@ -568,20 +568,20 @@ def cmd_simulate(args) -> int:
     except MechanicsError as exc:
         raise _explained(model, exc) from None
     outputs = _Outputs()
+    fine = traj
+    if (args.csv or args.plot) and times is None and len(traj.t) < PLOT_SAMPLES:
+        # the integrator's steps are far apart for a table or a drawing: the same run sampled
+        # on a fine uniform grid (dense output; the events are in the JSON and on the plot)
+        import numpy as np
+
+        grid = np.linspace(traj.t[0], traj.t[-1], PLOT_SAMPLES)
+        fine = simulate(model, t_end=traj.t[-1], times=grid, form=args.form, **options)
     if args.csv:
-        outputs.add("--csv", args.csv, traj.to_csv)
+        outputs.add("--csv", args.csv, fine.to_csv)
     if args.plot:
         from .plotting import plot_trajectory
 
-        shown = traj
-        if times is None and len(traj.t) < PLOT_SAMPLES:
-            # the integrator's steps are far apart for drawing forces: the same run sampled
-            # on a fine grid (dense output; the events are marked on the plot)
-            import numpy as np
-
-            grid = np.linspace(traj.t[0], traj.t[-1], PLOT_SAMPLES)
-            shown = simulate(model, t_end=traj.t[-1], times=grid, form=args.form, **options)
-        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(shown, tmp))
+        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(fine, tmp))
     stdout = None
     if args.json == "-":
         stdout = json.dumps(traj.to_dict(), indent=1, allow_nan=True)
@@ -781,7 +781,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--method", type=_method_type, metavar="METHOD",
                    help=f"integrator: {', '.join(METHODS)} (default: [simulation] method)")
     json_option(s)
-    s.add_argument("--csv", metavar="OUT", help="write the trajectory as CSV")
+    s.add_argument("--csv", metavar="OUT", help="write the trajectory as CSV (at --times, else on 601 uniform samples)")
     s.add_argument("--plot", metavar="PNG", help="plot the trajectory, reactions and energy")
     s.set_defaults(func=cmd_simulate)
 
