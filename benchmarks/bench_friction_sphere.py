@@ -401,11 +401,11 @@ def breakdown(makers: dict, case: dict, runs: int = 30) -> dict:
                     stack[-1] += dt
         return wrapper
 
-    saved = [(simmod, "select_mode"), (simmod, "validate_contacts"), (Trajectory, "from_samples"),
+    saved = [(simmod, "select_mode"), (simmod, "validate_state"), (Trajectory, "from_samples"),
              (DOP853, "step"), (DOP853, "__init__"), (DOP853, "dense_output")]
     saved = [(owner, name, owner.__dict__.get(name)) for owner, name in saved]  # None: inherited
     simmod.select_mode = timed("mode selection", simmod.select_mode)
-    simmod.validate_contacts = timed("initial state and checks", simmod.validate_contacts)
+    simmod.validate_state = timed("initial state and checks", simmod.validate_state)
     Trajectory.from_samples = classmethod(timed("trajectory assembly", Trajectory.__dict__["from_samples"].__func__))
     DOP853.step = timed("SciPy DOP853 steps (without the RHS)", DOP853.step)
     DOP853.__init__ = timed("SciPy: solver set-up", DOP853.__init__)

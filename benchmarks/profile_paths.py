@@ -238,7 +238,7 @@ def simulate_path(label, model, t_end, form="lagrange1"):
         tm.wrap(nsim.Simulation, "_residuals", "per step: constraint residuals (observables)")
         tm.wrap(nsim.Simulation, "_project", "projections (start and drift)")
         tm.wrap(nsim, "select_mode", "select_mode (initial mode)")
-        tm.wrap(nsim, "validate_contacts", "validate_contacts")
+        tm.wrap(nsim, "validate_state", "validate_state")
         tm.wrap(ntraj.Trajectory, "from_samples", "Trajectory.from_samples (one batch evaluation)")
         rhs_label = "right-hand side calls of the integrator"
         original_rhs = nsim.Simulation.rhs
