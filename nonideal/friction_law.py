@@ -202,13 +202,7 @@ def touching_contacts(model: Model, states: dict | None = None) -> list[str]:
     from .switching import select_mode
 
     names = [c.name for c in model.contacts]
-    states = dict(states or {})
-    for k, v in states.items():
-        if k not in names:
-            raise FormNotApplicable(f"--contact: no contact '{k}'{did_you_mean(k, names)}")
-        if v not in CONTACT_STATES:
-            raise FormNotApplicable(f"--contact {k}: state '{v}' unknown{did_you_mean(v, CONTACT_STATES)}; "
-                                    "use " + ", ".join(CONTACT_STATES))
+    states = _checked_states(states, names)
     if len(states) < len(names):
         kernel = kernel_of(model)
         params = parameter_vector(model)
@@ -220,6 +214,18 @@ def touching_contacts(model: Model, states: dict | None = None) -> list[str]:
 
 
 CONTACT_STATES = ("separated", "stick", "slide+", "slide-", "slide")
+
+
+def _checked_states(states, names) -> dict:
+    """The ``--contact`` states as a dict, each contact and state checked."""
+    states = dict(states or {})
+    for k, v in states.items():
+        if k not in names:
+            raise FormNotApplicable(f"--contact: no contact '{k}'{did_you_mean(k, names)}")
+        if v not in CONTACT_STATES:
+            raise FormNotApplicable(f"--contact {k}: state '{v}' unknown{did_you_mean(v, CONTACT_STATES)}; "
+                                    "use " + ", ".join(CONTACT_STATES))
+    return states
 
 
 def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = None,
@@ -245,13 +251,7 @@ def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = 
     from .switching import select_mode
 
     names = [c.name for c in model.contacts]
-    states = dict(states or {})
-    for k, v in states.items():
-        if k not in names:
-            raise FormNotApplicable(f"--contact: no contact '{k}'{did_you_mean(k, names)}")
-        if v not in CONTACT_STATES:
-            raise FormNotApplicable(f"--contact {k}: state '{v}' unknown{did_you_mean(v, CONTACT_STATES)}; "
-                                    "use " + ", ".join(CONTACT_STATES))
+    states = _checked_states(states, names)
     kernel = kernel_of(model)
     params = parameter_vector(model)
     held = {r.name for r in kernel.rows if r.unilateral}
