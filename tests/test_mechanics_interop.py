@@ -34,7 +34,7 @@ def _kane_accelerations(frame, q, u, kd, bodies, loads, values, state, constrain
     return {coordinate_name(qi): x[n + u_all.index(ui)] for qi, ui in zip(q, u)}
 
 
-def _compare(model, frame, q, u, bodies, loads, values, constraints=None, states=5, seed_state=None):
+def assert_matches_kane(model, frame, q, u, bodies, loads, values, constraints=None, states=5, seed_state=None):
     kd = [qi.diff() - ui for qi, ui in zip(q, u)]
     for _ in range(states):
         state = seed_state(RNG) if seed_state else {
@@ -73,7 +73,7 @@ def test_double_pendulum_of_rigid_links_matches_kane():
         "double pendulum (sympy.physics.mechanics)", [q1, q2], N, O, links, loads,
         parameters={"m": 1.3, "l": 0.7, "g": 9.81}, initial={q1: 0.2, q2: -0.1, q1.diff(): 0, q2.diff(): 0})
     assert model.coordinates == ("q1", "q2")
-    _compare(model, N, [q1, q2], [u1, u2], links, loads, values)
+    assert_matches_kane(model, N, [q1, q2], [u1, u2], links, loads, values)
 
 
 def test_inertia_about_another_point_is_made_central():
@@ -112,7 +112,7 @@ def test_spinning_top_euler_angles_matches_kane():
         "top", [psi, th, phi], N, O, [top], loads,
         parameters={str(k): v for k, v in values.items()},
         initial={psi: 0, th: 0.4, phi: 0, psi.diff(): 0, th.diff(): 0, phi.diff(): 30})
-    _compare(model, N, [psi, th, phi], list(u), [top], loads, values,
+    assert_matches_kane(model, N, [psi, th, phi], list(u), [top], loads, values,
              seed_state=lambda r: {"psi": r.uniform(-1, 1), "theta": r.uniform(0.3, 1.2),
                                    "phi": r.uniform(-1, 1), "psi'": r.uniform(-2, 2),
                                    "theta'": r.uniform(-2, 2), "phi'": r.uniform(-30, 30)})
@@ -149,7 +149,7 @@ def test_knife_edge_with_a_dynamicsymbols_constraint_matches_kane():
         return {"x": r.uniform(-1, 1), "y": r.uniform(-1, 1), "theta": t,
                 "x'": vx, "y'": vx * np.tan(t), "theta'": w}
 
-    _compare(model, N, [x, y, th], [ux, uy, ut], [body], loads, values, constraints=cons,
+    assert_matches_kane(model, N, [x, y, th], [ux, uy, ut], [body], loads, values, constraints=cons,
              seed_state=state)
 
 
