@@ -145,8 +145,9 @@ def run(verbose: bool = True) -> dict:
     traj = simulate(model, times=times)
     th, thd = angle(traj.q, traj.qd)
     lam1, lam = multipliers(th, thd, m, m1, l, g)
-    err_rod = float(np.max(np.abs(traj.multipliers["rod"] - lam1)))
-    err_line = float(np.max(np.abs(traj.multipliers["line"] - lam)))
+    # relative to the multipliers' size (|lambda| reaches ~100 when the rod swings fast)
+    err_rod = float(np.max(np.abs(traj.multipliers["rod"] - lam1)) / np.max(np.abs(lam1)))
+    err_line = float(np.max(np.abs(traj.multipliers["line"] - lam)) / np.max(np.abs(lam)))
     px = m * traj.velocity("x") + m1 * traj.velocity("x1")
     err_px = float(np.max(np.abs(px - px[0])))
 
@@ -172,7 +173,7 @@ def run(verbose: bool = True) -> dict:
         "ok": max(err_rod, err_line) < 1e-9 and err_px < 1e-9 and err_masses < 1e-12 and err_eq < 1e-12
         and abs(printed - lam1_eq) > 1.0 and worst_form < 1e-10
         and d["energy_balance_relative"] < 1e-8 and d["constraint_residual_max"] < 1e-8,
-        "max_error_lambda_rod_(1.27)": err_rod, "max_error_lambda_line_(1.28)": err_line,
+        "max_relative_error_lambda_rod_(1.27)": err_rod, "max_relative_error_lambda_line_(1.28)": err_line,
         "max_relative_error_several_masses": err_masses,
         "lambda1_equal_masses": float(ev.multipliers["rod"]), "lambda1_(1.5)_printed": printed,
         "max_error_horizontal_momentum": err_px,
