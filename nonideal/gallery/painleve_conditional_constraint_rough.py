@@ -46,6 +46,13 @@ seed's (1.98) with ``eps = sign(x1')`` (not the eps of (1.82)):
 
     (m1 + m2) l/4 (theta''/s^2 - c theta'^2/s^3) = m2 g c + X/(2 s) + f eps lambda/(2 s).    (1.98)
 
+**Misprint (1.90)-(1.91)** (Painleve's own, unweighted split, not the library's): with the
+friction rho_1 = mu (1, 0) on M1 and rho_2 = mu (cos 2theta, sin 2theta) on M2 the derivation gives
+lambda_1 = (1.87) + (m2 - m1) cos(theta) mu/(m1 + m2) and lambda_2 = (1.87) + (m2 - m1) sin(theta)
+mu/(m1 + m2); printed ``-(q - 1) sin(theta) mu`` and ``+(q - 1) mu`` (q = m1/m2), which no scaling of mu
+reconciles.  The conclusion stands: with that split the multipliers depend on friction unless
+m1 = m2 (with the mass-weighted split they never do, tested).
+
 **Misprints (1.95)-(1.96), (1.99)**: the generalized friction force is that of the whole
 R_tau = (m1 + m2) mu (the friction components on M1 and M2 do the work (m1 + m2) mu delta x1),
 not ``m1 mu l/(2 sin(theta))``; (1.98) is consistent with the correct one.  The first equation

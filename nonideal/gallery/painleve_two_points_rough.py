@@ -71,6 +71,15 @@ swap of (1.22)-(1.23) again) and with ``m1 eps f sin(theta)`` where the derivati
 ``m eps f sin(theta)``; its second equation has ``-g cos(theta)`` for ``+g cos(theta)`` (see
 ``painleve-two-points``).  ``run`` evaluates both forms at simulated states.
 
+**Misprints elsewhere in the seed** (checked against the library): (1.40)-(1.41), the same
+system in ``phi = pi/2 - theta`` from a downward Oy -- see
+``tests/test_manglieva2022_painleve_phi_rough.py``; (1.55) cites (1.54) for (1.53); the
+generalized friction force is ``Q_i = sum R^tau_gamma dx_gamma/dq_i`` (printed with ``mu_i``);
+in (2.3) ``delta x_gamma`` (printed ``delta x'_gamma``, Chetaev's rule); in the proof that the
+multipliers do not depend on friction ``d phi_beta/d x'_gamma`` (printed ``d/d x_gamma``);
+(2.21) minimizes ``A_dD`` (printed ``A_dmu``), Gauss's principle being ``A_dD <= A_mug`` of
+(2.20).
+
 Stick.  While x' = 0 the rod swings about the fixed point M: theta'' = g cos(theta)/l and
 
     F = -m1 cos(theta) (g sin(theta) + l theta'^2),
