@@ -798,6 +798,16 @@ def diagnose_singular(solver: ModeSolver, M, G, B, layout, t, q, qd) -> Exceptio
             f"singular mass matrix{where}: the kinetic energy does not depend on the velocity "
             f"combination {combo}; give that motion inertia (mass or moment of inertia) or "
             "constrain it", src)
+    servo = [j for j, r in enumerate(layout)
+             if r.kind == "constraint" and kernel.rows[r.index].reaction_kind != "ideal"]
+    if len(servo) > 1 and np.linalg.matrix_rank(B[:, servo]) < len(servo):
+        j = int(np.linalg.matrix_rank(B[:, servo]))
+        names_ = ", ".join(repr(layout[k].name) for k in servo)
+        return MechanicsError(
+            f"{len(servo)} servo/quasi-ideal constraints ({names_}) but their control directions "
+            f"span only j = {j}: with r = {len(servo)} programs and j = {j} < r independent controls "
+            "the problem is, in general, impossible (Beghin's count; seed 004); give each program "
+            "its own control direction" + where)
     if m and not np.allclose(B, G.T):
         # the combination of reactions that moves nothing along the constraints names them
         A = G @ np.linalg.solve(M, B)

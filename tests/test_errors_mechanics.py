@@ -319,3 +319,18 @@ def test_check_validates_the_friction_data(tmp_path):
     path.write_text(text)
     with pytest.raises(ModelError, match="mu_static = 0.1 is smaller than the kinetic mu = 0.3"):
         check_model(load_model(path))
+
+
+def test_two_programs_one_control_direction_is_impossible(tmp_path):
+    # seed 004: r = 2 servo-constraints realized by j = 1 control direction (the same actuator
+    # declared for both): impossible in general -- exit 3 with Beghin's count, the programs named
+    text = (NEGATIVE_MASS_ON_A_ROUGH_FLOOR.replace("m = -1.0", "m = 1.0").split("[[contacts]]")[0]
+            + '[[constraints]]\nname = "px"\ntype = "servo"\nexpr = "x - t"\nreaction = ["1", "1"]\n'
+            + '[[constraints]]\nname = "py"\ntype = "servo"\nexpr = "y - t^2"\nreaction = ["1", "1"]\n'
+            + "[initial]" + NEGATIVE_MASS_ON_A_ROUGH_FLOOR.split("[initial]")[1])
+    path = tmp_path / "r_gt_j.toml"
+    path.write_text(text)
+    for run in (check_model, evaluate, lambda m: simulate(m, t_end=1.0)):
+        with pytest.raises(MechanicsError, match=r"2 servo/quasi-ideal constraints \('px', 'py'\) but their "
+                           r"control directions span only j = 1.*impossible \(Beghin's count"):
+            run(load_model(path))
