@@ -120,6 +120,7 @@ class ModeSystem:
         dst = [i + k * s for i in range(n) for k in range(n)]
         rsrc = list(range(ksl["F"], ksl["F"] + n))
         self.sliding = []
+        self.tangent_slip: dict[int, int] = {}  # layout row of a sticking slip -> its U in z
         for j, r in enumerate(layout):
             col = n + j
             if r.kind == "constraint":
@@ -138,6 +139,7 @@ class ModeSystem:
                                          slice(col * s, col * s + n)))
             else:
                 row = ck.offsets[r.index] + r.k
+                self.tangent_slip[j] = cat["U"] + row
                 g_row = b_col = [cat["W"] + row * n + k for k in range(n)]
                 rsrc.append(cat["gamma_U"] + row)
             src += g_row + b_col
@@ -153,8 +155,9 @@ class ModeSystem:
     # ------------------------------------------------------------------ evaluation
     def assemble(self, solver, t: float, y: np.ndarray, mode: Mode, powers: bool = False):
         """``K`` (shape (s, s), Fortran order, friction columns included) and ``r`` at the state
-        ``y = [q, q', ...]``; with *powers* also the power ``fcol . q'`` of each sliding
-        contact's friction column ``fcol`` per unit normal force.  Without rows ``K`` is ``M``,
+        ``y = [q, q', ...]``; with *powers* also, per unit normal force, the power of each
+        sliding contact's friction on its slip, ``F . U`` (``fcol . q'`` less the part a moving
+        support supplies: ``U = W q' + U_0``).  Without rows ``K`` is ``M``,
         a view of the solver's buffer (the factorization copies it)."""
         n = self.n
         x, z = solver.x, solver.z
@@ -174,10 +177,11 @@ class ModeSystem:
             qd = y[n:2 * n]
             for j, c, u, w, shape, mu, col in self.sliding:
                 cs = mode.contacts[c][1]
-                fcol = cs.sigma * z[mu] * (solver.friction_shape(c, cs, z[u], qd) @ z[w].reshape(shape))
+                direction = solver.friction_shape(c, cs, z[u], qd)
+                fcol = cs.sigma * z[mu] * (direction @ z[w].reshape(shape))
                 K[col] -= fcol
                 if powers:
-                    fq.append(fcol @ qd)
+                    fq.append(cs.sigma * z[mu] * float(direction @ z[u]))
         K = K.reshape((self.s, self.s), order="F")
         if self._dependent is None:
             self.dependent(K[n:, :n])
@@ -256,8 +260,8 @@ class ModeSystem:
         friction = 0.0
         for (j, *_), p in zip(self.sliding, fq):
             friction += float(lam[j]) * p  # the column's friction part is -fcol
-        for j in self.tangent:
-            friction -= float(lam[j] * Bqd[j])
+        for j in self.tangent:  # sticking: the friction's power on the (vanishing) slip
+            friction -= float(lam[j] * solver.z[self.tangent_slip[j]])
         return sol, total - friction, friction, (solver.kz[self.power] if self.power else None)
 
     def specialized(self, kernel, mode: Mode):
@@ -333,7 +337,7 @@ class ModeFunction:
                 cd = dyn.contacts[r.index]
                 g = b = list(cd.W[r.k])
                 gamma = cd.gamma_U[r.k]
-                fp = sum((w * v for w, v in zip(g, qd)), zero)
+                fp = cd.U[r.k]  # the friction's power on the slip, per unit force
             else:
                 c = r.index
                 cd = dyn.contacts[c]
@@ -367,7 +371,7 @@ class ModeFunction:
                     fcol = [cs.sigma * cd.mu * sum((sk * w[i] for sk, w in zip(shape, cd.W)), zero)
                             for i in range(n)]
                     b = [gi - fi for gi, fi in zip(g, fcol)]
-                    fp = -sum((f * v for f, v in zip(fcol, qd)), zero)
+                    fp = -cs.sigma * cd.mu * sum((sk * u for sk, u in zip(shape, U)), zero)
             columns.append(b)
             rows.append(g)
             gammas.append(gamma)

@@ -663,21 +663,22 @@ class ModeSolver:
         return Solution(qdd, rows, mults, layout, values, M, F, G, gamma, B, Gm, gm, Bm,
                         contacts, friction, direct, particular)
 
-    def friction_force(self, mode: Mode, layout: list[RowSpec], values: np.ndarray, cout) -> np.ndarray:
-        """Generalized friction force ``sum_c W_c^T F_c`` from the multipliers of the mode's rows
-        (fast path for the right-hand side; no copies)."""
-        Q = np.zeros(self.n)
+    def friction_power(self, mode: Mode, layout: list[RowSpec], values: np.ndarray, cout) -> float:
+        """The power of the friction forces on their slips, ``sum_c F_c . U_c``: the rate of
+        dissipation, never positive.  (``Q_f . q'`` differs from it by what a moving support
+        puts in through friction, ``-F . U_0`` with ``U = W q' + U_0``: a belt, a turntable.)"""
+        P = 0.0
         for j, r in enumerate(layout):
             if r.kind == "tangent":
-                Q += values[j] * cout["W"][self.ck.offsets[r.index] + r.k]
+                P += values[j] * cout["U"][self.ck.offsets[r.index] + r.k]
             elif r.kind == "normal":
                 c = r.index
                 cs = mode.contacts[c][1]
                 if cs.state in (SLIDE, SMOOTH):
                     o, d = self.ck.offsets[c], self.ck.dims[c]
-                    s = self.friction_shape(c, cs, cout["U"][o:o + d])
-                    Q -= cs.sigma * cout["mu"][c] * values[j] * (s @ cout["W"][o:o + d])
-        return Q
+                    U = cout["U"][o:o + d]
+                    P -= cs.sigma * cout["mu"][c] * values[j] * float(self.friction_shape(c, cs, U) @ U)
+        return float(P)
 
     def _contact_forces(self, mode, layout, values, cout, qdd):
         friction = np.zeros(self.n)

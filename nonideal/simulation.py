@@ -168,17 +168,19 @@ class Simulation:
                 qdd, values, layout, out, cout = solver.accelerations(t, q, qd, mode)
                 if values is None:  # a reduced form: recover the multipliers
                     sol = solver.solve(t, q, qd, mode)
-                    qdd, P_f, R = sol.qdd, sol.friction @ qd, sol.M @ sol.qdd - sol.F
+                    R = sol.M @ sol.qdd - sol.F
+                    qdd, P_f = sol.qdd, sum(float(cf.F @ cf.U) for cf in sol.contacts.values() if cf.F.size)
                 else:
-                    P_f = solver.friction_force(mode, layout, values, cout) @ qd
+                    P_f = solver.friction_power(mode, layout, values, cout)
                     R = out["M"] @ qdd - out["F"]
             else:
                 qdd, values, layout, out, cout = solver.accelerations(t, q, qd, mode)
                 P_f = 0.0
                 R = out["M"] @ qdd - out["F"] if layout else None
             dy[n:2 * n] = qdd
-            # power of the total generalized reaction R = M q'' - F, split into friction
-            # and the rest (ideal and servo reactions)
+            # power of the total generalized reaction R = M q'' - F, split into the friction's
+            # power on the slips, sum F . U (never positive), and the rest (ideal and servo
+            # reactions, and what moving supports put in through friction)
             dy[2 * n + 1] = (R @ qd - P_f) if R is not None else 0.0
             dy[2 * n + 3] = P_f
             dy[2 * n + 4] = 0.0  # impacts change it only at switches

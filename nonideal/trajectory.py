@@ -45,7 +45,11 @@ class Trajectory:
     multipliers : dict name -> ndarray (N,)
     energy : dict name -> ndarray (N,) -- ``kinetic``, ``potential``, ``energy`` (T2 - T0 + V),
         ``active_work``, ``reaction_work``, ``friction_work``, ``explicit_time_work``,
-        ``impact_work`` (energy change at impacts), ``balance``
+        ``impact_work`` (energy change at impacts), ``balance``.  ``friction_work`` is the
+        work of the friction forces on the slips, ``int sum_c F_c . U_c dt``: the heat, never
+        positive.  On a moving support (a belt, a turntable: ``U = W q' + U_0``) friction also
+        transmits the support's work ``-int F . U_0 dt``; it is counted in ``reaction_work``
+        with the work of the other reactions, so that the balance holds either way.
     events : list of dict
     diagnostics : dict
     contacts : dict name -> dict of arrays (``normal``, ``friction``, ``slip``, ``mode``)

@@ -14,8 +14,9 @@ of the block above the belt (the gap; its multiplier is the normal force N = m g
 Contact ``belt``: gap ``y``, slip velocity = velocity of the block RELATIVE to the belt,
 ``U = x' - v_b`` (linear in the velocities with a constant term); Coulomb friction, kinetic mu,
 static mu_s > mu.  The support moves: the friction force F does the work ``F x'`` on the
-block (not ``F U``), positive while the block sticks and is carried along -- the library's
-``friction_work`` is this work on the system; the heat generated is ``-F U >= 0``.
+block, positive while the block sticks and is carried along; of it ``F U <= 0`` is dissipated
+(the library's ``friction_work``, never positive) and ``F v_b`` is what the belt's drive puts
+in (counted with the work of the reactions, ``reaction_work``, as a moving support's is).
 
 Closed form.  omega = sqrt(k/m); ``x_s = mu_s m g / k`` (end of sticking),
 ``x_k = mu m g / k`` (centre of the sliding oscillation), ``d = x_s - x_k``.
@@ -41,7 +42,9 @@ the extremes at ``tau = atan(v_b / (omega d)) / omega`` (x_k + A) and
 
 Work and heat per cycle.  Friction work on the block: sticking ``k (x_s^2 - (x_k - d)^2) / 2 =
 2 d mu m g``, slipping ``-2 d mu m g``: zero per cycle (the energy ``T + V`` is periodic).  Heat
-``-int F U dt = mu m g (2 d + v_b T_slip)`` per cycle, supplied by the belt's drive.
+``-int F U dt = mu m g (2 d + v_b T_slip)`` per cycle, all of it while slipping (``friction_work``
+falls by that much in each slip phase and stays constant while sticking), supplied by the
+belt's drive: ``int F v_b dt`` = ``2 d mu m g`` sticking plus ``mu m g v_b T_slip`` slipping.
 
 Default (m = 1, k = 10, mu = 0.25, mu_s = 0.4, v_b = 0.5, g = 9.81), starting on the belt with
 the spring relaxed: slip at ``t = x_s / v_b = 0.7848``, then ``T_slip = 1.51289380558``,
@@ -93,7 +96,8 @@ def closed_form(p: dict) -> dict:
             "T_stick": T_stick, "T": T_slip + T_stick, "x_max": x_k + A, "x_min": x_k - A,
             "tau_max": beta / w, "tau_min": (np.pi + beta) / w,
             "work_stick": 2 * d * mu * m * g, "work_slip": -2 * d * mu * m * g,
-            "heat_per_cycle": mu * m * g * (2 * d + vb * T_slip)}
+            "heat_per_cycle": mu * m * g * (2 * d + vb * T_slip),
+            "belt_work_stick": 2 * d * mu * m * g, "belt_work_slip": mu * m * g * vb * T_slip}
 
 
 def first_slip(p: dict, x0: float = 0.0, xd0=None) -> tuple[float, list]:
@@ -143,11 +147,18 @@ def check(model: Model, x0: float = 0.0, xd0=None) -> dict:
     tr = simulate(model, times=times)
     x = tr.coordinate("x")
     i_max, i_min = (int(np.argmin(np.abs(times - s))) for s in t_ext)
-    W = tr.energy["friction_work"]
+    # per phase: the heat (friction_work, only while slipping) and what the belt puts in
+    # (reaction_work); their sum is the work of friction on the block
+    W, WR = tr.energy["friction_work"], tr.energy["reaction_work"]
     ie = [int(np.argmin(np.abs(times - e["t"]))) for e in ev]
     dW = {"stick": [], "slip": []}
+    heat = {"stick": [], "slip": []}
+    belt = {"stick": [], "slip": []}
     for a, b, e in zip(ie[:-1], ie[1:], ev[:-1]):  # phase from event e to the next
-        dW["slip" if e["type"] == "slip" else "stick"].append(W[b] - W[a])
+        phase = "slip" if e["type"] == "slip" else "stick"
+        dW[phase].append(W[b] - W[a] + WR[b] - WR[a])
+        heat[phase].append(W[b] - W[a])
+        belt[phase].append(WR[b] - WR[a])
     # the first sticking phase of a start at rest begins off the cycle (not at x_k - d)
     full_sticks = dW["stick"][0 if xd0 is None else 1:]
     E = full.energy
@@ -161,7 +172,13 @@ def check(model: Model, x0: float = 0.0, xd0=None) -> dict:
         "work_slip_phases": dW["slip"], "work_stick_phases": full_sticks,
         "max_error_work_phases": float(max([abs(w - cf["work_slip"]) for w in dW["slip"]]
                                            + [abs(w - cf["work_stick"]) for w in full_sticks] + [0.0])),
-        "friction_work_positive_somewhere": bool(np.max(np.diff(E["friction_work"])) > 0),
+        "heat_slip_phases": heat["slip"],
+        "max_error_heat_phases": float(max([abs(w + cf["heat_per_cycle"]) for w in heat["slip"]]
+                                           + [abs(w) for w in heat["stick"]] + [0.0])),
+        "max_error_belt_work": float(max([abs(w - cf["belt_work_slip"]) for w in belt["slip"]]
+                                         + [abs(w - cf["belt_work_stick"]) for w in belt["stick"][0 if xd0 is None else 1:]]
+                                         + [0.0])),
+        "friction_work_never_increases": bool(np.max(np.diff(E["friction_work"])) <= 1e-12),
         "energy_balance_relative": full.diagnostics["energy_balance_relative"],
         "energy_balance_max": full.diagnostics["energy_balance_max"],
         "constraint_residual_max": full.diagnostics["constraint_residual_max"],
@@ -173,7 +190,8 @@ def _ok(r: dict) -> bool:
     return (r["event_times_relative_error"] < 1e-8 and r["period_max_relative_error"] < 1e-8
             and abs(r["x_max"] - r["x_max_closed_form"]) < 1e-9
             and abs(r["x_min"] - r["x_min_closed_form"]) < 1e-9
-            and r["max_error_work_phases"] < 1e-9 and r["friction_work_positive_somewhere"]
+            and r["max_error_work_phases"] < 1e-9 and r["friction_work_never_increases"]
+            and r["max_error_heat_phases"] < 1e-9 and r["max_error_belt_work"] < 1e-9
             and r["energy_balance_relative"] < 1e-8 and r["constraint_residual_max"] < 1e-10
             and r["max_error_normal"] < 1e-10)
 
@@ -208,6 +226,9 @@ def run(verbose: bool = True) -> dict:
             print(f"  friction work per phase: slip {np.round(r['work_slip_phases'], 12).tolist()}, "
                   f"stick {np.round(r['work_stick_phases'], 12).tolist()} (closed form "
                   f"-/+ 2 d mu m g = {cf['work_slip']:.12f}); energy balance {r['energy_balance_relative']:.1e}")
+            print(f"  heat per slip phase (friction_work): {np.round(r['heat_slip_phases'], 12).tolist()}, "
+                  f"none while sticking (error {r['max_error_heat_phases']:.1e}); the belt's work per phase "
+                  f"(reaction_work) error {r['max_error_belt_work']:.1e}")
         print(f"heat per cycle (supplied by the belt): {cf['heat_per_cycle']:.12f} J")
         print(f"all forms vs Lagrange I (sliding, sticking): {cross['slide']:.1e}, {cross['stick']:.1e}")
         print("ok" if ok else "FAILED")
