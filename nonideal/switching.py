@@ -475,7 +475,13 @@ def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting=
                         if lab[0] == "c":
                             impulses[kernel.rows[lab[1]].name] = float(value)
                         elif lab[0] == "n":
-                            impulses[ck.names[lab[1]]] = float(value)
+                            c = lab[1]
+                            impulses[ck.names[c]] = float(value)
+                            o = next(o for (cc, o, _) in combo if cc == c)
+                            if o == "slide" and c not in solver.frictionless:  # its friction impulse
+                                sd = next(sd for (cc, _, sd) in combo if cc == c)
+                                for kk in range(ck.dims[c]):
+                                    impulses[f"{ck.names[c]}_t{kk + 1}"] = float(-cout["mu"][c] * value * sd[kk])
                         else:
                             impulses[f"{ck.names[lab[1]]}_t{lab[2] + 1}"] = float(value)
                     return qd_plus, impulses
