@@ -811,20 +811,27 @@ def diagnose_singular(solver: ModeSolver, M, G, B, layout, t, q, qd) -> Exceptio
             "its own control direction" + where)
     if m and not np.allclose(B, G.T):
         # the combination of reactions that moves nothing along the constraints names them
-        A = G @ np.linalg.solve(M, B)
-        _, sv, Vt = np.linalg.svd(A)
-        w = Vt[-1]
-        involved = [r.name for j, r in enumerate(layout) if abs(w[j]) > 1e-6 * np.max(np.abs(w))]
+        _, w = weakest_reactions(M, G, B)
+        parts = [(w[j], r.name) for j, r in enumerate(layout) if abs(w[j]) > 1e-6 * np.max(np.abs(w))]
         return MechanicsError(
             "the non-ideal reactions (servo / quasi-ideal / friction) cannot realize the "
-            f"constraints: G M^-1 B is singular -- the reactions of {', '.join(repr(x) for x in involved)} "
-            "in the combination " + ", ".join(f"{w[j]:.4g}*{r.name}" for j, r in enumerate(layout)
-                                              if abs(w[j]) > 1e-6 * np.max(np.abs(w)))
+            f"constraints: G M^-1 B is singular -- the reactions of {', '.join(repr(x) for _, x in parts)} "
+            "in the combination " + ", ".join(f"{c:.4g}*{x}" for c, x in parts)
             + " accelerate the system only along motions the constraints allow, so they cannot "
             "enforce them (a servo-constraint whose control direction is orthogonal, in the "
             "metric of M, to the program's gradient; for a sliding contact the boundary of "
             "Painleve's paradox); choose another reaction direction" + where)
     return SingularSystem(f"the equations of motion are singular{where}", src)
+
+
+def weakest_reactions(M: np.ndarray, G: np.ndarray, B: np.ndarray) -> tuple[float, np.ndarray]:
+    """How nearly the reactions ``B`` fail to realize the constraints ``G``: the smallest
+    singular value of ``G M^-1 B`` relative to ``|G| |M^-1 B|`` (what it would be with the
+    reactions along the gradients), and its combination of the reactions (unit vector)."""
+    Minv_B = np.linalg.solve(M, B)
+    _, sv, Vt = np.linalg.svd(G @ Minv_B)
+    scale = float(np.linalg.norm(G) * np.linalg.norm(Minv_B))
+    return float(sv[-1]) / max(scale, 1e-300), Vt[-1]
 
 
 def coulomb_exact(law) -> bool:

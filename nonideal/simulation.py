@@ -31,7 +31,7 @@ from .errors import IntegrationFailed, MechanicsError, ModelError, PainleveParad
 from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, transition
 from .model import Model
 from .mode_system import Motion
-from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, ModeSolver
+from .modes import SEPARATED, SLIDE, SMOOTH, STICK, Mode, ModeSolver, weakest_reactions
 from .numeric import SingularMatrix, kernel_of, max_abs, parameter_vector
 from .switching import effective_compliance, impact, select_mode, validate_state
 from .trajectory import Sample, Trajectory
@@ -618,15 +618,11 @@ class Simulation:
         out = kernel.dynamics(self.solver.input(ode.t, q, qd))
         M, G, B = (np.asarray(out[k], dtype=float) for k in ("M", "G", "B"))
         try:
-            Minv_B = np.linalg.solve(M, B[:, rows])
+            relative, w = weakest_reactions(M, G[rows], B[:, rows])
         except np.linalg.LinAlgError:  # pragma: no cover - M singular is diagnosed elsewhere
             return
-        _, sv, Vt = np.linalg.svd(G[rows] @ Minv_B)
-        # relative to what G M^-1 B would be with the reactions along the gradients
-        scale = np.linalg.norm(G[rows]) * np.linalg.norm(Minv_B)
-        if sv[-1] > 1e-6 * max(scale, 1e-300):
+        if relative > 1e-6:
             return
-        w = Vt[-1]
         involved = [kernel.rows[i].name for k, i in enumerate(rows)
                     if abs(w[k]) > 1e-3 * np.max(np.abs(w)) and kernel.rows[i].reaction_kind != "ideal"]
         state = dict(zip(self.model.coordinates, q))
@@ -634,7 +630,7 @@ class Simulation:
         raise MechanicsError(
             f"the servo/quasi-ideal constraint(s) {', '.join(repr(x) for x in involved)} stop being "
             f"realizable at t = {ode.t:.10g}: G M^-1 B is singular there (smallest singular value "
-            f"{sv[-1]:.3g}, {sv[-1] / scale:.2g} of its scale) -- the control direction has turned orthogonal, in the "
+            f"{relative:.2g} of its scale) -- the control direction has turned orthogonal, in the "
             "metric of M, to the program's gradient, and the control force needed grows without "
             "bound; the programmed motion cannot be continued with this control", ode.t, state)
 
