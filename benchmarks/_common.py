@@ -34,7 +34,7 @@ def clear_caches() -> None:
     from sympy.core.cache import clear_cache
 
     clear_cache()
-    for mod, name in (("nonideal.dynamics", "_CACHE"), ("nonideal.numeric", "_KERNELS")):
+    for mod, name in (("nonideal.equations.dynamics", "_CACHE"), ("nonideal.numeric.kernel", "_KERNELS")):
         cache = getattr(sys.modules.get(mod), name, None)
         if isinstance(cache, dict):
             cache.clear()

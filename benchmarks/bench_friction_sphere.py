@@ -232,9 +232,9 @@ def clear_library_caches() -> None:
     from sympy.core.cache import clear_cache
 
     clear_cache()
-    for mod, name in (("nonideal.dynamics", "_CACHE"), ("nonideal.numeric", "_KERNELS"),
-                      ("nonideal.contact_kernel", "_CACHE"), ("nonideal.mode_system", "_SYSTEMS"),
-                      ("nonideal.simulation", "_INITIAL"), ("nonideal.switching", "_VALIDATED")):
+    for mod, name in (("nonideal.equations.dynamics", "_CACHE"), ("nonideal.numeric.kernel", "_KERNELS"),
+                      ("nonideal.numeric.contact_kernel", "_CACHE"), ("nonideal.modes.system", "_SYSTEMS"),
+                      ("nonideal.simulation.hybrid", "_INITIAL"), ("nonideal.modes.switching", "_VALIDATED")):
         cache = getattr(sys.modules.get(mod), name, None)
         if isinstance(cache, dict):
             cache.clear()
@@ -256,7 +256,7 @@ def ours_measure(traj, exact: dict) -> dict:
 
 def bench_ours(repeat: int, quick: bool) -> dict:
     import nonideal
-    from nonideal.modelfile import load_model
+    from nonideal.modeling.modelfile import load_model
 
     out = {"first_call": {}, "cases": {}, "tolerances": []}
     # first call: parse + compile + first run, from a fresh model with every cache cleared
@@ -266,7 +266,7 @@ def bench_ours(repeat: int, quick: bool) -> dict:
         t0 = time.perf_counter()
         model = load_model(MODEL_FILE)
         t1 = time.perf_counter()
-        from nonideal.simulation import Simulation
+        from nonideal.simulation.hybrid import Simulation
 
         sim = Simulation(model)              # compiles the kernels
         t2 = time.perf_counter()
@@ -310,9 +310,9 @@ def bench_ours(repeat: int, quick: bool) -> dict:
 def specialize_time(model) -> dict:
     """Compilation of the saddle-point systems of the two modes a run integrates (sliding with
     two slip components, rolling): what the library pays once per model when a mode is hot."""
-    from nonideal.mode_system import ModeFunction, system_of
-    from nonideal.modes import ContactState, Mode
-    from nonideal.numeric import kernel_of
+    from nonideal.modes.system import ModeFunction, system_of
+    from nonideal.modes.types import ContactState, Mode
+    from nonideal.numeric.kernel import kernel_of
 
     kernel = kernel_of(model)
     out = {}
@@ -378,8 +378,8 @@ def breakdown(makers: dict, case: dict, runs: int = 30) -> dict:
     SciPy stages exclude the right-hand side they call).  The simulations of *makers* (name
     -> factory) run alternately, one run each per round, after WARMUP runs; the stage times
     are medians over the fastest half of the rounds (the shares of a quiet run)."""
-    import nonideal.simulation as simmod
-    from nonideal.trajectory import Trajectory
+    import nonideal.simulation.hybrid as simmod
+    from nonideal.simulation.trajectory import Trajectory
     from scipy.integrate import DOP853
 
     init = initial_of(case)
@@ -453,7 +453,7 @@ def speed_of(slip) -> np.ndarray:
 
 def bench_regularized(model, eps_list, methods, repeat: int) -> list[dict]:
     import nonideal
-    from nonideal.realizability import regularized
+    from nonideal.analysis.realizability import regularized
 
     out = []
     grid = np.linspace(0.0, T_END, 2001)
@@ -813,7 +813,7 @@ def main(argv=None) -> int:
     # ---- profile and stages
     t0 = time.perf_counter()
     result["profile"] = profile_ours(model, CASES["b"], runs=10 if quick else 30)
-    from nonideal.simulation import Simulation
+    from nonideal.simulation.hybrid import Simulation
 
     makers = {"warm": lambda: Simulation(model), "index path": lambda: Simulation(model, specialize=False)}
     result["breakdown"] = breakdown(makers, CASES["b"], 10 if quick else 40)
@@ -853,7 +853,7 @@ def head_to_head(model, mj, key: str, rounds: int, mj_configs) -> dict:
     pays for the caches the other one took (measured: ~0.4 ms of a 2.5 ms run of ours after
     a MuJoCo rollout) -- a user runs one simulator at a time."""
     import nonideal
-    from nonideal.realizability import regularized
+    from nonideal.analysis.realizability import regularized
 
     case = CASES[key]
     init = initial_of(case)

@@ -34,10 +34,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _common as C  # noqa: E402
 import peers  # noqa: E402
 
-from nonideal.formalisms import FORMS, derive  # noqa: E402
-from nonideal.gallery.knife_chain import build  # noqa: E402
-from nonideal.simulation import N_WORK, Simulation, simulate  # noqa: E402
-from nonideal.switching import select_mode  # noqa: E402
+from nonideal.equations.formalisms import FORMS, derive
+from nonideal.gallery.knife_chain import build
+from nonideal.simulation.hybrid import N_WORK, Simulation, simulate
+from nonideal.modes.switching import select_mode
 
 T_END, RTOL, ATOL, METHOD = 5.0, 1e-8, 1e-10, "DOP853"
 PARAMS = [1.0, 1.0]  # m, l

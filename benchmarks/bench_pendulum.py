@@ -33,10 +33,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _common as C  # noqa: E402
 import peers  # noqa: E402
 
-from nonideal.formalisms import FORMS, derive  # noqa: E402
-from nonideal.gallery.nlink_pendulum import build  # noqa: E402
-from nonideal.simulation import Simulation, simulate  # noqa: E402
-from nonideal.switching import select_mode  # noqa: E402
+from nonideal.equations.formalisms import FORMS, derive
+from nonideal.gallery.nlink_pendulum import build
+from nonideal.simulation.hybrid import Simulation, simulate
+from nonideal.modes.switching import select_mode
 
 Q0 = 0.5
 T_END, RTOL, ATOL, METHOD = 10.0, 1e-8, 1e-10, "DOP853"
@@ -130,7 +130,7 @@ def our_rhs(n):
 
 def _rhs_before_tier_up(n, rep):
     """The same right-hand side while the kernel still runs its unoptimized first compile."""
-    import nonideal.numeric as numeric
+    import nonideal.numeric.kernel as numeric
 
     saved = getattr(numeric, "TIER_UP_CALLS", None)
     if saved is None:

@@ -27,15 +27,16 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import _common as C  # noqa: E402
 
-import nonideal.formalisms.base as fbase  # noqa: E402
-import nonideal.model as nmodel  # noqa: E402
-import nonideal.simulation as nsim  # noqa: E402
-import nonideal.trajectory as ntraj  # noqa: E402
-from nonideal.dynamics import dynamics_of  # noqa: E402
-from nonideal.formalisms import derive  # noqa: E402
-from nonideal.gallery import knife_chain, nlink_pendulum  # noqa: E402
-from nonideal.numeric import Kernel, solve_saddle  # noqa: E402
-from nonideal.switching import select_mode  # noqa: E402
+import nonideal.equations.formalisms.base as fbase  # noqa: E402
+import nonideal.modeling.model as nmodel  # noqa: E402
+import nonideal.modeling.values as nvalues  # noqa: E402
+import nonideal.simulation.hybrid as nsim  # noqa: E402
+import nonideal.simulation.trajectory as ntraj  # noqa: E402
+from nonideal.equations.dynamics import dynamics_of
+from nonideal.equations.formalisms import derive
+from nonideal.gallery import knife_chain, nlink_pendulum
+from nonideal.numeric.kernel import Kernel, solve_saddle
+from nonideal.modes.switching import select_mode
 
 
 class Timers:
@@ -101,8 +102,8 @@ def derive_path(label, make, form):
     C.clear_caches()
     t0 = time.perf_counter()
     with Timers() as tm:
-        tm.wrap(nmodel, "parse_expression", "Model: parse expressions (safe parser -> SymPy)")
-        tm.wrap(nmodel, "_identically_zero", "Model: _identically_zero (4 evalf at random points)")
+        tm.wrap(nvalues, "parse_expression", "Model: parse expressions (safe parser -> SymPy)")
+        tm.wrap(nvalues, "identically_zero", "Model: identically_zero (4 evalf at random points)")
         tm.wrap(fbase, "numeric_instances", "derive: numeric_instances (xreplace + n() per entry)")
         tm.wrap(fbase, "_symbolic_solve", "derive: symbolic solve of the dependent block")
         tb = time.perf_counter()

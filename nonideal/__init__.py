@@ -5,9 +5,16 @@ in the classical forms (:func:`derive`), the reactions at a state (:func:`evalua
 exact hybrid simulation (:func:`simulate`).
 """
 
-from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
-from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
-from .eom import EquationsOfMotion
+from .modeling.bodies import Force, Particle, PlanarBody, RigidBody, Torque
+from .modeling.contacts import (
+    Contact,
+    Coulomb,
+    LinearizedCoulomb,
+    Newton,
+    Plastic,
+    RegularizedCoulomb,
+)
+from .equations.eom import EquationsOfMotion
 from .errors import (
     FormNotApplicable,
     IndeterminateSystem,
@@ -19,11 +26,14 @@ from .errors import (
     PainleveParadox,
     SingularSystem,
 )
-from .formalisms import FORMS, derive
-from .mechanics import model_from_mechanics
-from .model import Constraint, Model, Parameter, SimulationSettings
-from .simulation import Simulation, simulate
-from .trajectory import Trajectory
+from .analysis.derivation import derive
+from .analysis.evaluation import evaluate
+from .equations.formalisms import FORMS
+from .modeling.mechanics import model_from_mechanics
+from .modeling.modelfile import load_model
+from .modeling.model import Constraint, Model, Parameter, SimulationSettings
+from .simulation.hybrid import Simulation, simulate
+from .simulation.trajectory import Trajectory
 
 __version__ = "0.1.0"
 
@@ -31,7 +41,7 @@ __all__ = [
     "Model", "Parameter", "Constraint", "SimulationSettings", "model_from_mechanics",
     "Particle", "PlanarBody", "RigidBody", "Force", "Torque",
     "Contact", "Coulomb", "RegularizedCoulomb", "LinearizedCoulomb", "Plastic", "Newton",
-    "EquationsOfMotion", "FORMS", "derive", "simulate", "Simulation", "Trajectory",
+    "EquationsOfMotion", "FORMS", "derive", "evaluate", "simulate", "load_model", "Simulation", "Trajectory",
     "NonidealError", "ModelError", "MechanicsError", "PainleveParadox", "IndeterminateSystem",
     "InconsistentInitialConditions", "IntegrationFailed", "SingularSystem", "FormNotApplicable",
 ]

@@ -15,7 +15,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 
-from ..modelfile import load_model
+from ..modeling.modelfile import load_model
 
 __all__ = ["names", "module", "model_path", "load", "run", "EXAMPLES"]
 

@@ -33,8 +33,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bodies import Particle
-from ..model import Constraint, Model
+from ..modeling.bodies import Particle
+from ..modeling.model import Constraint, Model
 
 NAME = "appell-hamel"
 ORDER = 50
@@ -77,7 +77,7 @@ def end_time(g, a, vx0, vy0):
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..simulation import simulate
+    from ..simulation.hybrid import simulate
     from .painleve_two_points import form_agreement
 
     model = gallery.load(NAME)

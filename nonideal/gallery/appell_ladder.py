@@ -53,8 +53,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import quad
 
-from ..bodies import PlanarBody
-from ..model import Constraint, Model
+from ..modeling.bodies import PlanarBody
+from ..modeling.model import Constraint, Model
 
 NAME = "appell-ladder"
 ORDER = 40
@@ -137,13 +137,13 @@ def reactions_closed(alpha, alpha0, m, g):
 
 def forms_for_simulation() -> list[str]:
     """Every registered form other than lagrange1, and the Gauss solver."""
-    from ..formalisms import FORMS
+    from ..equations.formalisms import FORMS
     return [f for f in FORMS if f != "lagrange1"] + ["gauss"]
 
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..simulation import simulate
+    from ..simulation.hybrid import simulate
     from ..errors import FormNotApplicable
     from .painleve_two_points import form_agreement
 

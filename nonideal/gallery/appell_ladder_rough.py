@@ -103,9 +103,9 @@ import numpy as np
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from ..bodies import PlanarBody
-from ..contacts import Contact, Coulomb
-from ..model import Model
+from ..modeling.bodies import PlanarBody
+from ..modeling.contacts import Contact, Coulomb
+from ..modeling.model import Model
 
 NAME = "appell-ladder-rough"
 ORDER = 41
@@ -317,7 +317,7 @@ def check_1_106(f_A=0.2, f_B=0.45, count=12) -> dict:
     """(1.105)-(1.106) (with sigma f_A, sigma f_B) vs the library at random states where both
     ends slide, unequal coefficients; also the split's constraint parts vs the smooth
     reactions, and the seed's sigma = +1 equation wrongly used for alpha' < 0."""
-    from ..evaluation import evaluate
+    from ..analysis.evaluation import evaluate
 
     model = build(f_A=f_A, f_B=f_B, top=False)
     p = model.parameter_values
@@ -350,9 +350,9 @@ def painleve_representation(count=8) -> float:
     reaction at random states: the accelerations must be the physical ones.  A non-trivial
     cross-check of the forms here: in the physical representation both sliding contacts are
     non-ideal rows kept by every form."""
-    from ..evaluation import evaluate
-    from ..formalisms import FORMS
-    from ..friction_law import painleve_model
+    from ..analysis.evaluation import evaluate
+    from ..equations.formalisms import FORMS
+    from ..analysis.friction_law import painleve_model
 
     model = build(f_A=0.2, f_B=0.45, top=False)
     p = model.parameter_values
@@ -404,8 +404,8 @@ def along(traj, cf, p) -> dict:
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..crosscheck import compare_forms
-    from ..simulation import simulate
+    from ..analysis.crosscheck import compare_forms
+    from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)
     p = model.parameter_values

@@ -42,8 +42,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contacts import Contact, Coulomb
-from ..model import Model
+from ..modeling.contacts import Contact, Coulomb
+from ..modeling.model import Model
 
 NAME = "block-on-incline"
 ORDER = 40
@@ -92,7 +92,7 @@ def motion(t, p: dict):
 
 def check(model: Model, t_end: float | None = None) -> dict:
     """Simulate *model* and compare with the closed form (errors, events, energy)."""
-    from ..simulation import simulate
+    from ..simulation.hybrid import simulate
 
     p = model.parameter_values
     cf = closed_form(p)
@@ -134,7 +134,7 @@ def _ok(r: dict, expected_modes: list[str]) -> bool:
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..crosscheck import compare_forms
+    from ..analysis.crosscheck import compare_forms
 
     model = gallery.load(NAME)
     cases = {

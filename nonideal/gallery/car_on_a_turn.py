@@ -130,9 +130,9 @@ import sympy as sp
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from ..bodies import Force, RigidBody
-from ..contacts import Contact, Coulomb
-from ..model import Model
+from ..modeling.bodies import Force, RigidBody
+from ..modeling.contacts import Contact, Coulomb
+from ..modeling.model import Model
 
 NAME = "car-on-a-turn"
 ORDER = 12
@@ -337,8 +337,8 @@ def circumradius(P: np.ndarray) -> float:
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..realizability import realizability_along
-    from ..simulation import simulate
+    from ..analysis.realizability import realizability_along
+    from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)
     p = model.parameter_values

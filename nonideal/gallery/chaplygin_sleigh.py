@@ -40,8 +40,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import quad
 
-from ..bodies import PlanarBody
-from ..model import Constraint, Model
+from ..modeling.bodies import PlanarBody
+from ..modeling.model import Constraint, Model
 
 NAME = "chaplygin-sleigh"
 ORDER = 10
@@ -95,8 +95,8 @@ def position(t, m, I, a, v0, omega0):
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..formalisms import FORMS, derive
-    from ..simulation import simulate
+    from ..equations.formalisms import FORMS, derive
+    from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)
     p = model.parameter_values

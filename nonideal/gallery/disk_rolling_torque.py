@@ -51,8 +51,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contacts import Contact, Coulomb
-from ..model import Model
+from ..modeling.contacts import Contact, Coulomb
+from ..modeling.model import Model
 
 NAME = "disk-rolling-torque"
 ORDER = 44
@@ -126,8 +126,8 @@ def regularized_motion(t, p: dict, eps: float):
 def regularization_error(p: dict, eps: float, times) -> dict:
     """Simulate the regularized model (Radau) and compare with the rolling and the exact
     regularized solutions."""
-    from ..realizability import regularized
-    from ..simulation import simulate
+    from ..analysis.realizability import regularized
+    from ..simulation.hybrid import simulate
 
     model = build(**p)
     tr = simulate(regularized(model, eps), times=times, method="Radau")
@@ -144,9 +144,9 @@ def regularization_error(p: dict, eps: float, times) -> dict:
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..crosscheck import compare_forms
-    from ..realizability import realizability, realizability_along
-    from ..simulation import simulate
+    from ..analysis.crosscheck import compare_forms
+    from ..analysis.realizability import realizability, realizability_along
+    from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)
     p = model.parameter_values

@@ -33,8 +33,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bodies import PlanarBody
-from ..model import Constraint, Model
+from ..modeling.bodies import PlanarBody
+from ..modeling.model import Constraint, Model
 
 NAME = "knife-chain"
 ORDER = 60
@@ -96,10 +96,10 @@ def build(n: int = 3, m: float = 1.0, l: float = 1.0, vx: float = 1.0, vy: float
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..crosscheck import compare_forms
+    from ..analysis.crosscheck import compare_forms
     from ..errors import FormNotApplicable
-    from ..formalisms import FORMS, derive
-    from ..simulation import simulate
+    from ..equations.formalisms import FORMS, derive
+    from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)
     traj = simulate(model)

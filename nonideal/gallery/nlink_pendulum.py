@@ -37,8 +37,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bodies import Particle
-from ..model import Model
+from ..modeling.bodies import Particle
+from ..modeling.model import Model
 
 NAME = "nlink-pendulum"
 ORDER = 50
@@ -110,7 +110,7 @@ def linearized_frequencies(model: Model, eps: float = 1e-6) -> np.ndarray:
     ``M0`` is the mass matrix at rest; the stiffness ``K0 = -dF/dq`` by central differences
     (``F`` is the forcing of ``M q'' = F``, velocity terms vanish at rest).
     """
-    from ..numeric import kernel_of, parameter_vector
+    from ..numeric.kernel import kernel_of, parameter_vector
 
     kernel = kernel_of(model)
     params = parameter_vector(model)
@@ -130,9 +130,9 @@ def linearized_frequencies(model: Model, eps: float = 1e-6) -> np.ndarray:
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..crosscheck import compare_forms
-    from ..formalisms import FORMS, derive
-    from ..simulation import simulate
+    from ..analysis.crosscheck import compare_forms
+    from ..equations.formalisms import FORMS, derive
+    from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)
     traj = simulate(model)

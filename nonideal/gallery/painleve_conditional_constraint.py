@@ -77,8 +77,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bodies import Particle
-from ..model import Constraint, Model
+from ..modeling.bodies import Particle
+from ..modeling.model import Constraint, Model
 
 NAME = "painleve-conditional-constraint"
 ORDER = 32
@@ -165,7 +165,7 @@ def printed_integral(theta, x1):
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..simulation import simulate
+    from ..simulation.hybrid import simulate
     from .painleve_two_points import form_agreement
 
     model = gallery.load(NAME)

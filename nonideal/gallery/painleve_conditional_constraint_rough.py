@@ -84,9 +84,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bodies import Particle
-from ..contacts import Contact, Coulomb
-from ..model import Constraint, Model
+from ..modeling.bodies import Particle
+from ..modeling.contacts import Contact, Coulomb
+from ..modeling.model import Constraint, Model
 from .painleve_conditional_constraint import MIDPOINT, angle, first_integral, multipliers
 
 NAME = "painleve-conditional-constraint-rough"
@@ -204,7 +204,7 @@ def split_at(model: Model, q, qd):
     """Evaluation at a state: ``(evaluation, lambda_1, lambda_2, lambda, mu, friction part)``
     with lambda_1, lambda_2, lambda the constraint parts (the seed's multipliers) and mu the
     friction part of M1 / m1."""
-    from ..evaluation import evaluate
+    from ..analysis.evaluation import evaluate
 
     at = {c: q[i] for i, c in enumerate(model.coordinates)}
     at.update({c + "'": qd[i] for i, c in enumerate(model.coordinates)})
@@ -223,8 +223,8 @@ def split_at(model: Model, q, qd):
 def at_rest(p: dict, X: float, t_end: float = 0.2) -> dict:
     """Start at rest at theta0 with the force X: the library's decision and initial
     accelerations (evaluation) and a short simulation vs (1.100) and (*)."""
-    from ..evaluation import evaluate
-    from ..simulation import simulate
+    from ..analysis.evaluation import evaluate
+    from ..simulation.hybrid import simulate
 
     q = {**p, "X": X}
     model = build(**{k: q[k] for k in KEYS})
@@ -261,8 +261,8 @@ def rest_forms(p: dict, count: int = 20, seed: int = 0) -> dict:
     -(X + m2 g sin 2theta).  Returns the worst absolute acceleration and relative force error
     per form.  (``compare_forms(contact_state="stick")`` measures these zero accelerations
     against a fixed floor of 1e-9 and reports round-off of 5e-15 as a 5e-6 disagreement.)"""
-    from ..evaluation import evaluate
-    from ..formalisms import FORMS
+    from ..analysis.evaluation import evaluate
+    from ..equations.formalisms import FORMS
 
     rng = np.random.default_rng(seed)
     out = {f: [0.0, 0.0] for f in list(FORMS) + ["gauss"]}
@@ -284,8 +284,8 @@ def rest_forms(p: dict, count: int = 20, seed: int = 0) -> dict:
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..crosscheck import compare_forms
-    from ..simulation import simulate
+    from ..analysis.crosscheck import compare_forms
+    from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)
     p = model.parameter_values

@@ -63,9 +63,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..bodies import PlanarBody
-from ..contacts import Contact, Coulomb
-from ..model import Model
+from ..modeling.bodies import PlanarBody
+from ..modeling.contacts import Contact, Coulomb
+from ..modeling.model import Model
 
 NAME = "painleve-rod"
 ORDER = 42
@@ -179,9 +179,10 @@ def reference_events(p: dict, theta0: float = 1.1, xd0: float = -1.0) -> dict:
 def library_critical_mu(model: Model, theta: float, s: float = -1.0):
     """``critical_friction`` and ``effective_compliance`` of the library for A sliding in the
     direction s at angle theta (rod touching at A, at rest otherwise)."""
-    from ..modes import SEPARATED, SLIDE, ContactState, Mode, ModeSolver
-    from ..numeric import kernel_of, parameter_vector
-    from ..switching import critical_friction, effective_compliance
+    from ..modes.types import SEPARATED, SLIDE, ContactState, Mode
+    from ..modes.solver import ModeSolver
+    from ..numeric.kernel import kernel_of, parameter_vector
+    from ..modes.switching import critical_friction, effective_compliance
 
     p = model.parameter_values
     solver = ModeSolver(kernel_of(model), parameter_vector(model))
@@ -229,7 +230,7 @@ def region_plot(path, points=()) -> Path:
 def paradox(model: Model):
     """Simulate *model*; return the PainleveParadox raised (or None)."""
     from ..errors import PainleveParadox
-    from ..simulation import simulate
+    from ..simulation.hybrid import simulate
 
     try:
         simulate(model)
@@ -240,7 +241,7 @@ def paradox(model: Model):
 
 def normal_case(model: Model) -> dict:
     """Simulate the consistent case and compare with the closed forms of the docstring."""
-    from ..simulation import simulate
+    from ..simulation.hybrid import simulate
 
     p = model.parameter_values
     full = simulate(model)
@@ -295,7 +296,7 @@ def run(verbose: bool = True, png: str | Path | None = None) -> dict:
     """Region plot (to *png*, default a file in the temporary directory), critical
     coefficients, the two paradoxes, the normal case, all forms."""
     from .. import gallery
-    from ..crosscheck import compare_forms
+    from ..analysis.crosscheck import compare_forms
 
     model = gallery.load(NAME)
     p = model.parameter_values

@@ -55,8 +55,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bodies import Particle
-from ..model import Constraint, Model
+from ..modeling.bodies import Particle
+from ..modeling.model import Constraint, Model
 
 NAME = "painleve-two-points"
 ORDER = 30
@@ -118,9 +118,9 @@ def random_states(count=8, seed=1):
 
 def form_agreement(model, count=10):
     """``{form: worst relative disagreement with lagrange1 | 'not applicable: ...'}``."""
-    from ..crosscheck import compare_forms
+    from ..analysis.crosscheck import compare_forms
     from ..errors import FormNotApplicable
-    from ..formalisms import FORMS
+    from ..equations.formalisms import FORMS
 
     out = {}
     for f in list(FORMS) + ["gauss"]:
@@ -135,8 +135,8 @@ def form_agreement(model, count=10):
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..evaluation import evaluate
-    from ..simulation import simulate
+    from ..analysis.evaluation import evaluate
+    from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)
     p = model.parameter_values

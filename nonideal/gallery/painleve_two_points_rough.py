@@ -100,9 +100,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bodies import Particle
-from ..contacts import Contact, Coulomb
-from ..model import Constraint, Model
+from ..modeling.bodies import Particle
+from ..modeling.contacts import Contact, Coulomb
+from ..modeling.model import Constraint, Model
 from .painleve_two_points import MASSES, angle, multipliers, random_states, state
 
 NAME = "painleve-two-points-rough"
@@ -244,7 +244,7 @@ def reference_events(p: dict, theta0: float, thetad0: float, v0: float, t_end: f
 def split_along(model: Model, traj, stride: int = 1):
     """Painleve's split at the samples of *traj*: ``theta, theta', sigma, lambda_1 (rod),
     lambda (line, along +y), mu (friction part of M / m)``, arrays."""
-    from ..evaluation import evaluate
+    from ..analysis.evaluation import evaluate
 
     m = model.parameter_values["m"]
     th, thd = angle(traj.q, traj.qd)
@@ -268,7 +268,7 @@ def split_along(model: Model, traj, stride: int = 1):
 def independence_of_friction(l: float = 0.5, g: float = 9.81) -> float:
     """Max relative difference of the constraint parts with f = 0.3 and f = 0 and of both with
     (1.27)-(1.28), over four mass ratios and eight random states."""
-    from ..evaluation import evaluate
+    from ..analysis.evaluation import evaluate
 
     worst = 0.0
     for mm, mm1 in MASSES:
@@ -289,7 +289,7 @@ def classic_split(model: Model, at: dict, theta: float):
     """Painleve's original split (virtual displacements ``rho dt``, not mass-weighted, seed
     (1.1)-(1.4)): ``(lambda_1, mu)`` from the physical reaction at the state *at*.  With
     ``G`` the gradients of rod and line, ``R = G^T lambda + nu`` with ``G nu = 0``."""
-    from ..evaluation import evaluate, painleve_split
+    from ..analysis.evaluation import evaluate, painleve_split
 
     ev = evaluate(model, at=at)
     R = sum(np.array(r["generalized"]) for r in ev.reactions.values())
@@ -308,7 +308,7 @@ def residual_1_4(lam1, mu, theta, thetad, m, m1, l, g):
 def motion(model: Model, p: dict) -> dict:
     """Simulate *model*; compare its events with :func:`reference_events`, the friction law
     with the split along the sliding samples, and report the energy terms."""
-    from ..simulation import simulate
+    from ..simulation.hybrid import simulate
 
     traj = simulate(model)
     ref = reference_events(p, p["theta0"], p["thetad0"], p["v0"], model.simulation.t_end)
@@ -349,8 +349,8 @@ def equation_1_29(traj, p) -> tuple[float, float]:
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..crosscheck import compare_forms
-    from ..evaluation import evaluate
+    from ..analysis.crosscheck import compare_forms
+    from ..analysis.evaluation import evaluate
 
     model = gallery.load(NAME)
     p = model.parameter_values

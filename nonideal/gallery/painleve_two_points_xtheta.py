@@ -31,8 +31,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bodies import Particle
-from ..model import Constraint, Model
+from ..modeling.bodies import Particle
+from ..modeling.model import Constraint, Model
 from .painleve_two_points import MASSES, form_agreement, multipliers, random_states
 
 NAME = "painleve-two-points-xtheta"
@@ -72,8 +72,8 @@ def normal_force_1_39(theta, thetad, thetadd, m, m1, l, g):
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..evaluation import evaluate
-    from ..simulation import simulate
+    from ..analysis.evaluation import evaluate
+    from ..simulation.hybrid import simulate
     from .painleve_two_points import build as build_redundant
 
     model = gallery.load(NAME)

@@ -28,8 +28,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..bodies import Particle
-from ..model import Constraint, Model
+from ..modeling.bodies import Particle
+from ..modeling.model import Constraint, Model
 
 NAME = "perpendicular-velocities"
 ORDER = 51
@@ -89,7 +89,7 @@ def reference(times, m1, m2, k1, k2, d, initial=INITIAL):
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..simulation import simulate
+    from ..simulation.hybrid import simulate
     from .painleve_two_points import form_agreement
 
     model = gallery.load(NAME)

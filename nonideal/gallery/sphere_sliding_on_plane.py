@@ -66,8 +66,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contacts import Contact, Coulomb
-from ..model import Model
+from ..modeling.contacts import Contact, Coulomb
+from ..modeling.model import Model
 
 NAME = "sphere-sliding-on-plane"
 ORDER = 41
@@ -137,7 +137,7 @@ def motion(t, p: dict, v0=V0, omega0=OMEGA0):
 
 def check(model: Model, v0=V0, omega0=OMEGA0, t_end: float | None = None) -> dict:
     """Simulate the 3-D *model* and compare with the closed form."""
-    from ..simulation import simulate
+    from ..simulation.hybrid import simulate
 
     p = model.parameter_values
     cf = closed_form(p, v0, omega0)
@@ -194,8 +194,8 @@ def _ok(r: dict) -> bool:
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..crosscheck import compare_forms
-    from ..simulation import simulate
+    from ..analysis.crosscheck import compare_forms
+    from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)
     r3 = check(model)

@@ -45,8 +45,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import simpson
 
-from ..bodies import Particle
-from ..model import Constraint, Model
+from ..modeling.bodies import Particle
+from ..modeling.model import Constraint, Model
 
 NAME = "spherical-pendulum-variable-length"
 ORDER = 20
@@ -125,10 +125,10 @@ def tension(t, q, qd, m, g, l0, eps, w):
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..crosscheck import compare_forms
+    from ..analysis.crosscheck import compare_forms
     from ..errors import FormNotApplicable
-    from ..formalisms import FORMS
-    from ..simulation import simulate
+    from ..equations.formalisms import FORMS
+    from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)
     p = model.parameter_values

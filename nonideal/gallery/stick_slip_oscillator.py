@@ -57,8 +57,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contacts import Contact, Coulomb
-from ..model import Model
+from ..modeling.contacts import Contact, Coulomb
+from ..modeling.model import Model
 
 NAME = "stick-slip-oscillator"
 ORDER = 43
@@ -128,7 +128,7 @@ def schedule(p: dict, t_end: float, x0: float = 0.0, xd0=None) -> list[tuple[flo
 
 def check(model: Model, x0: float = 0.0, xd0=None) -> dict:
     """Simulate *model* and compare with the closed form."""
-    from ..simulation import simulate
+    from ..simulation.hybrid import simulate
 
     p = model.parameter_values
     cf = closed_form(p)
@@ -198,7 +198,7 @@ def _ok(r: dict) -> bool:
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..crosscheck import compare_forms
+    from ..analysis.crosscheck import compare_forms
 
     model = gallery.load(NAME)
     p = model.parameter_values

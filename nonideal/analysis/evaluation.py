@@ -1,0 +1,314 @@
+"""The motion at one state: accelerations, multipliers, reactions split into constraint and
+friction parts (Painleve's split, seed 000 section 1.2).
+
+For the constraint Jacobian ``G`` of the active constraints (as ideal constraints) and the
+possible velocities ``V`` (``G V = 0``), every generalized reaction decomposes uniquely as
+
+    R = G^T lambda + M V mu    (constraint force + friction force),
+
+because ``V^T M V`` is positive definite.  Hence ``lambda = (G M^-1 G^T)^-1 G M^-1 R`` and
+the friction part is ``P R`` with ``P = I - G^T (G M^-1 G^T)^-1 G M^-1``.  The constraint part
+does not depend on friction: ``lambda = -(G M^-1 G^T)^-1 (gamma + G M^-1 F)``.  Per row ``j``
+the constraint part is ``G_j^T lambda_j`` and the friction part the rest of its physical
+reaction, ``R_j - G_j^T lambda_j``; their sum over the rows is ``P R``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..numeric.consistency import complete_state
+from ..errors import ModelError, did_you_mean
+from ..modeling.expressions import parse_expression
+from ..modeling.model import Model
+from ..modes.solver import ModeSolver
+from ..numeric.kernel import kernel_of, parameter_vector
+
+__all__ = ["Evaluation", "evaluate", "parse_state", "painleve_split"]
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Everything about the motion at one state (see :func:`evaluate`)."""
+
+    model: str
+    form: str
+    t: float
+    coordinates: tuple[str, ...]
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    mode: str
+    multipliers: dict[str, float]
+    reactions: dict[str, dict[str, list[float]]]
+    contacts: dict[str, dict[str, Any]]
+    split_available: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        """The SPEC's JSON structure of ``evaluate``."""
+        c = self.coordinates
+        return {
+            "model": self.model, "form": self.form, "t": self.t,
+            "q": dict(zip(c, map(float, self.q))),
+            "qdot": dict(zip(c, map(float, self.qd))),
+            "qddot": dict(zip(c, map(float, self.qdd))),
+            "multipliers": dict(self.multipliers),
+            "reactions": self.reactions,
+            "reaction_total": self.reaction_total(),
+            "contacts": self.contacts,
+            "mode": self.mode,
+        }
+
+    def reaction_total(self) -> dict[str, list[float]]:
+        """The total generalized reaction ``M q'' - F`` and its Painleve split, summed over all
+        constraints and contacts: ``G^T lambda`` and the seed's friction force ``M V mu``
+        (seed 000, (1.14)-(1.17))."""
+        n = len(self.coordinates)
+        out = {}
+        for key in ("generalized", "constraint_part", "friction_part"):
+            total = np.zeros(n)
+            for r in self.reactions.values():
+                if key in r and len(r[key]) == n:
+                    total += np.asarray(r[key], dtype=float)
+            out[key] = [float(v) for v in total]
+        return out
+
+    def as_text(self) -> str:
+        lines = [f"{self.model} at t = {self.t:g}  (form: {self.form}, mode: {self.mode})"]
+        width = max(len(n) for n in self.coordinates) + 2
+        for i, n in enumerate(self.coordinates):
+            lines.append(f"  {n:<{width}} = {self.q[i]: .10g}   {n}' = {self.qd[i]: .10g}   "
+                         f"{n}'' = {self.qdd[i]: .10g}")
+        for name, value in self.multipliers.items():
+            r = self.reactions[name]
+            if name in self.contacts:
+                c = self.contacts[name]
+                lines.append(f"  contact {name}: {c['mode']}, N = {c['normal']: .10g}, "
+                             f"F = {_fmt(c['friction'])}, slip = {_fmt(c['slip'])}, gap = {c['gap']:.3g}")
+                if "margin" in c:
+                    lines.append(f"    sticking: friction needed {c['friction_needed']:.8g} of "
+                                 f"mu_s N = {c['friction_available']:.8g} (margin {c['margin']:.6g})")
+            else:
+                lines.append(f"  lambda_{name} = {value: .10g}")
+            lines.append(f"    reaction (generalized) = {_fmt(r['generalized'])}")
+            if self.split_available:
+                lines.append(f"    constraint part        = {_fmt(r['constraint_part'])}")
+                lines.append(f"    friction part          = {_fmt(r['friction_part'])}")
+        if self.split_available and len(self.reactions) > 1 and any(
+                any(v != 0 for v in r.get("friction_part", ())) for r in self.reactions.values()):
+            tot = self.reaction_total()
+            lines.append("  all reactions (the friction parts add up to the seed's friction force "
+                         "M V mu)")
+            lines.append(f"    total (generalized)    = {_fmt(tot['generalized'])}")
+            lines.append(f"    constraint part        = {_fmt(tot['constraint_part'])}")
+            lines.append(f"    friction part          = {_fmt(tot['friction_part'])}")
+        return "\n".join(lines)
+
+
+def _fmt(values) -> str:
+    return "[" + ", ".join(f"{v:.8g}" for v in values) + "]"
+
+
+def parse_state(model: Model, text: str | None) -> dict[str, float]:
+    """Parse ``"x=0.1, theta=0.3, x'=1"`` (values may be expressions in the parameters)."""
+    if not text:
+        return {}
+    out = {}
+    allowed = set(model.coordinates) | {c + "'" for c in model.coordinates}
+    import sympy as sp
+    names = {n: sp.Symbol(n) for n in model.parameters}
+    values = {sp.Symbol(n): p.value for n, p in model.parameters.items()}
+    for part in text.split(","):
+        if not part.strip():
+            continue
+        if "=" not in part:
+            raise ModelError(f"--at: '{part.strip()}' is not of the form name=value")
+        key, _, val = part.partition("=")
+        key = key.strip()
+        if key not in allowed:
+            raise ModelError(f"--at: '{key}' is not a coordinate or velocity{did_you_mean(key, allowed)}")
+        expr = parse_expression(val.strip(), names, f"--at {key}")
+        out[key] = float(expr.subs(values))
+    return out
+
+
+def _complete_at(kernel, model: Model, at, params, t):
+    """The state at ``--at``: its values over the model's initial ones.  If that mix violates a
+    constraint (the user moved a coordinate the initial values of others depended on), the
+    initial coordinates not given at ``--at`` become start values for the completion, and the
+    initial velocities not given are kept where they can be -- as many as possible, the
+    dependent ones completed from the constraints."""
+    import itertools
+
+    from ..errors import InconsistentInitialConditions
+
+    init = dict(model.numeric_initial())
+    given = {**init, **(at or {})}
+    try:
+        q, qd, _ = complete_state(kernel, given, params, t)
+        return q, qd
+    except InconsistentInitialConditions as exc:
+        if not at:
+            raise
+        first_error = exc
+    coords = set(model.coordinates)
+    velocities = [k for k in init if k.endswith("'") and k not in at]
+    for drop_coords in (False, True):
+        base, guess = dict(at), {}
+        for k, v in init.items():
+            if k in at or k.endswith("'"):
+                continue
+            if drop_coords and any(c in coords for c in at):
+                guess[k] = v
+            else:
+                base[k] = v
+        for k in range(len(velocities) + 1):
+            for dropped in itertools.combinations(velocities, k):
+                trial = {**base, **{v: init[v] for v in velocities if v not in dropped}}
+                try:
+                    q, qd, _ = complete_state(kernel, trial, params, t, guess=guess)
+                    return q, qd
+                except InconsistentInitialConditions:
+                    continue
+    problems = [p.replace("[initial]:", "--at (other values from [initial]):", 1)
+                for p in first_error.problems]
+    raise InconsistentInitialConditions(problems, first_error.source) from None
+
+
+def painleve_split(M: np.ndarray, G: np.ndarray, R: np.ndarray):
+    """Split a generalized reaction ``R`` into ``G^T lambda`` and the friction part ``P R``.
+
+    Returns ``(lambda, friction_part)`` or ``None`` when ``M`` is singular.
+    """
+    try:
+        Minv_GT = np.linalg.solve(M, G.T)
+        Minv_R = np.linalg.solve(M, R)
+    except np.linalg.LinAlgError:
+        return None
+    S = G @ Minv_GT
+    lam = np.linalg.solve(S, G @ Minv_R)
+    return lam, R - G.T @ lam
+
+
+def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | None = None,
+             form: str = "lagrange1", parameters: Mapping[str, float] | None = None,
+             independent=None) -> Evaluation:
+    """Accelerations, multipliers, reactions and contact forces at a state.
+
+    Parameters
+    ----------
+    model : Model
+    at : mapping, optional
+        Values overriding the model's initial state (missing dependent values are completed
+        from the constraints).
+    t : float, optional
+        Time (default: the model's ``t0``).
+    form : str
+        Formalism evaluating the accelerations (the result must not depend on it).
+
+    Returns
+    -------
+    Evaluation
+        ``reactions[name]`` holds, for every constraint and contact, its physical generalized
+        reaction ``R_j``, the constraint part ``G_j^T lambda_j`` of Painleve's split (which does
+        not depend on friction) and the friction part ``R_j - G_j^T lambda_j``, what friction
+        adds to that row's reaction: at the contact its friction force and the change of its
+        normal force, at an ideal constraint the change of its reaction that friction elsewhere
+        causes (seed 000, (1.14)-(1.17); zero in a frictionless system).  Each row's parts add
+        up to its reaction; summed over all rows the friction parts are ``M V mu``, the
+        friction force of the seed, which accelerates along possible velocities only (a single
+        row's friction part need not).  Where the
+        reactions are statically indeterminate (dependent rows: a ladder sticking at a rough
+        wall and floor), the multipliers and contact forces are the admissible distribution
+        with the widest margins, the least-norm one among several (:mod:`nonideal.indeterminate`),
+        and a sticking contact's ``margin`` is its margin in that distribution.
+    """
+    from ..modes.switching import select_mode, validate_state
+
+    allowed = set(model.coordinates) | {c + "'" for c in model.coordinates}
+    bad = [k for k in (at or {}) if k not in allowed]
+    if bad:
+        raise ModelError([f"at: '{k}' is not a coordinate or velocity{did_you_mean(k, allowed)}"
+                          for k in bad], None if model.source == "<api>" else model.source)
+    kernel = kernel_of(model)
+    params = parameter_vector(model, parameters)
+    t = model.t0 if t is None else float(t)
+    q, qd = _complete_at(kernel, model, at, params, t)
+    solver = ModeSolver(kernel, params, form, independent)
+    validate_state(solver, t, q, qd)
+    mode = select_mode(solver, t, q, qd)
+    sol = solver.solve(t, q, qd, mode)
+    return _report(model, form, t, q, qd, mode, sol, solver)
+
+
+def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
+    kernel = solver.kernel
+    n = kernel.n
+    rows = kernel.rows
+    # the frictionless constraint set: constraint rows and the normal rows of touching contacts
+    normal_rows = [j for j, r in enumerate(sol.layout) if r.kind != "tangent"]
+    G_ideal = sol.Gm[normal_rows]
+    R_total = sol.M @ sol.qdd - sol.F
+    split = painleve_split(sol.M, G_ideal, R_total) if normal_rows else None
+    lam_split = {}
+    if split is not None:
+        for k, j in enumerate(normal_rows):
+            lam_split[sol.layout[j].name] = split[0][k]
+    multipliers, reactions, contacts = {}, {}, {}
+    for r_i, row in enumerate(rows):
+        name = row.name
+        active = r_i in sol.rows
+        lam = sol.multiplier(r_i) if active else 0.0
+        multipliers[name] = float(lam)
+        generalized = sol.B[:, r_i] * lam if active else np.zeros(n)
+        if split is not None and active:
+            constraint_part = sol.G[r_i] * lam_split[name]
+            friction_part = generalized - constraint_part
+        else:
+            constraint_part, friction_part = generalized, np.zeros(n)
+        reactions[name] = {
+            "generalized": [float(v) for v in generalized],
+            "constraint_part": [float(v) for v in constraint_part],
+            "friction_part": [float(v) for v in friction_part],
+            "active": bool(active),
+        }
+    ck = solver.ck
+    for c, (name, cs) in enumerate(mode.contacts):
+        cf = sol.contacts[name]
+        o, d = ck.offsets[c], ck.dims[c]
+        x = solver.input(t, q, qd)
+        cout = ck(x)
+        Gn, W = cout["Gn"][c].copy(), cout["W"][o:o + d].copy()
+        normal_force = Gn * cf.N
+        friction_force = cf.F @ W
+        generalized = normal_force + friction_force
+        if split is not None and name in lam_split:
+            constraint_part = Gn * lam_split[name]
+            friction_part = generalized - constraint_part
+        else:
+            constraint_part, friction_part = normal_force, friction_force
+        reactions[name] = {
+            "generalized": [float(v) for v in generalized],
+            "constraint_part": [float(v) for v in constraint_part],
+            "friction_part": [float(v) for v in friction_part],
+            "active": cs.state != "separated",
+        }
+        multipliers[name] = float(cf.N)
+        info = cf.to_dict()
+        info["mu"] = cf.mu
+        info["mu_static"] = cf.mu_s
+        info["slip_acceleration"] = [float(v) for v in cf.Udot]
+        if cs.state == "stick":
+            need = float(np.sqrt(cf.F @ cf.F))
+            info["friction_needed"] = need
+            info["friction_available"] = float(cf.mu_s * abs(cf.N))
+            info["margin"] = float(cf.mu_s * abs(cf.N) - need)
+        if split is not None and name in lam_split:
+            info["constraint_multiplier"] = float(lam_split[name])
+        contacts[name] = info
+    return Evaluation(model.name, form, t, tuple(model.coordinates), q, qd, sol.qdd, mode.label(),
+                      multipliers, reactions, contacts, split is not None)

@@ -1,0 +1,250 @@
+"""Realizability of nonholonomic (no-slip) constraints by Coulomb friction (seed 001).
+
+Kalinin & Novozhilov: for ``V' = g + sum_s b_s f_s`` with Coulomb forces ``f_s = -f_s0 sign U_s``
+the sticking motion ``U_s = 0`` is realized by friction -- and the regularized system (the
+discontinuity replaced by a steep monotone law in ``|U_s| <= eps``) converges to it as
+``eps -> 0`` (Tikhonov) -- if and only if the roots ``f*_s`` of ``g_l + sum_s b_ls f_s = 0``
+satisfy ``|f*_s| < f_s0`` (one slip direction) or ``f*_1^2 + f*_2^2 < f_s0^2`` (isotropic
+friction in a contact plane).  The roots are exactly the reactions of the no-slip constraints
+(the friction needed to stick), so necessary and sufficient conditions coincide.
+
+* :func:`realizability` -- at one state: the friction force needed to keep each touching
+  contact sticking, compared with ``mu_s N``, with the margin;
+* :func:`realizability_along` -- along the rolling motion, the first time rolling stops being
+  realizable (the needed friction reaches ``mu_s N``) or the contact lifts off;
+* :func:`regularized` -- the model with the epsilon-linear (or smooth) friction law of the
+  seed, whose solutions tend to the sticking one as ``eps -> 0``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from ..numeric.consistency import complete_state
+from ..modeling.contacts import Coulomb, LinearizedCoulomb, RegularizedCoulomb
+from ..errors import ModelError, did_you_mean
+from ..modeling.model import Model
+from ..modes.types import SEPARATED, SMOOTH, STICK, ContactState, Mode
+from ..modes.solver import ModeSolver
+from ..numeric.kernel import kernel_of, parameter_vector
+
+__all__ = ["ContactRealizability", "RealizabilityReport", "realizability", "realizability_along",
+           "regularized"]
+
+
+@dataclass
+class ContactRealizability:
+    """The friction needed to stick at one contact, and what Coulomb friction can give."""
+
+    name: str
+    components: int
+    needed: np.ndarray       # F*, the reaction of the no-slip constraint(s)
+    normal: float            # N
+    mu_static: float
+    available: float         # mu_s N
+    margin: float            # available - |F*|
+    ratio: float             # |F*| / available
+    realizable: bool
+    note: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"contact": self.name, "components": self.components,
+                "friction_needed": [float(v) for v in self.needed],
+                "friction_needed_magnitude": float(np.linalg.norm(self.needed)),
+                "normal": self.normal, "mu_static": self.mu_static,
+                "friction_available": self.available, "margin": self.margin,
+                "ratio": self.ratio, "realizable": self.realizable,
+                "condition": ("|f*| < f0" if self.components == 1 else "f1*^2 + f2*^2 < f0^2"),
+                "note": self.note}
+
+
+@dataclass
+class RealizabilityReport:
+    model: str
+    t: float
+    state: dict[str, float]
+    contacts: dict[str, ContactRealizability]
+    along: dict[str, Any] = field(default_factory=dict)
+    others: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def realizable(self) -> bool:
+        return all(c.realizable for c in self.contacts.values())
+
+    def to_dict(self) -> dict[str, Any]:
+        out = {"model": self.model, "t": self.t, "state": self.state, "realizable": self.realizable,
+               "contacts": {k: v.to_dict() for k, v in self.contacts.items()}}
+        if self.along:
+            out["along"] = self.along
+        if self.others:
+            out["other_contacts"] = self.others
+        return out
+
+    def as_text(self) -> str:
+        lines = [f"{self.model}: realizability of rolling/sticking by Coulomb friction "
+                 f"(Kalinin & Novozhilov) at t = {self.t:g}"]
+        for c in self.contacts.values():
+            cond = "|f*| < f0" if c.components == 1 else "f1*^2 + f2*^2 < f0^2"
+            lines.append(
+                f"  {c.name}: needed friction f* = {np.array2string(c.needed, precision=8)} "
+                f"(|f*| = {np.linalg.norm(c.needed):.8g}), normal N = {c.normal:.8g}, "
+                f"f0 = mu_s N = {c.available:.8g}")
+            lines.append(f"    {cond}: {'yes' if c.realizable else 'NO'}; margin f0 - |f*| = "
+                         f"{c.margin:.8g}, ratio |f*|/f0 = {c.ratio:.6g}" + (f"  ({c.note})" if c.note else ""))
+        if self.others:
+            lines.append("  other contacts, as in the motion: "
+                         + ", ".join(f"{k} {v}" for k, v in self.others.items()))
+        if self.along:
+            a = self.along
+            if a.get("lost_at") is not None:
+                lines.append(f"  along the rolling motion: rolling stops being realizable at t = "
+                             f"{a['lost_at']:.12g} ({a['reason']} at contact '{a['contact']}')")
+            else:
+                lines.append(f"  along the rolling motion: realizable up to t = {a['t_end']:g} "
+                             f"(minimum margin {a['min_margin']:.6g} at t = {a['min_margin_t']:.6g})")
+        return "\n".join(lines)
+
+
+def _stick_mode(solver: ModeSolver, t, q, qd, names=None) -> Mode:
+    """The touching contacts sticking (only *names*, when given; a frictionless one is
+    smooth).  The other touching contacts keep the state the motion has there
+    (:func:`~nonideal.modes.switching.select_mode`: sliding, smooth, separating), so that their
+    forces still act; when that selection has no answer they stick too."""
+    held = frozenset(solver.kernel.rows[i].name for i in solver.unilateral)
+    cout = solver.ck(solver.input(t, q, qd))
+    scale = 1 + np.max(np.abs(q))
+    natural = {}
+    if names is not None:
+        from ..errors import MechanicsError
+        from ..modes.switching import select_mode
+
+        try:
+            natural = dict(select_mode(solver, t, q, qd).contacts)
+        except MechanicsError:
+            natural = {}
+    states = []
+    for c, name in enumerate(solver.ck.names):
+        closed = solver.ck.data[c].bilateral or abs(cout["gap"][c]) <= 1e-8 * scale
+        touching = SMOOTH if c in solver.frictionless else STICK  # no friction: nothing to realize
+        if not closed:
+            states.append((name, ContactState(SEPARATED)))
+        elif names is None or name in names or name not in natural:
+            states.append((name, ContactState(touching)))
+        else:
+            states.append((name, natural[name]))
+    return Mode(held, tuple(states))
+
+
+def _assess(solver, sol, mode) -> dict[str, ContactRealizability]:
+    out = {}
+    for c, (name, cs) in enumerate(mode.contacts):
+        if cs.state != STICK:
+            continue
+        cf = sol.contacts[name]
+        bil = solver.ck.data[c].bilateral
+        N = abs(cf.N) if bil else cf.N
+        available = cf.mu_s * max(N, 0.0)
+        need = float(np.linalg.norm(cf.F))
+        note = ""
+        if not bil and cf.N < 0:
+            note = "the normal force is negative: the contact would separate"
+        ratio = need / available if available > 0 else float("inf")
+        ok = need < available and (bil or cf.N >= 0)
+        out[name] = ContactRealizability(name, len(cf.F), cf.F.copy(), float(cf.N), cf.mu_s, available,
+                                         available - need, ratio, bool(ok), note)
+    return out
+
+
+def realizability(model: Model, at: Mapping[str, float] | None = None, t: float | None = None,
+                  contacts=None, parameters: Mapping[str, float] | None = None) -> RealizabilityReport:
+    """Friction needed to keep the touching contacts sticking at a state, vs ``mu_s N``.
+
+    Parameters
+    ----------
+    model : Model
+    at : mapping, optional
+        State overrides (missing dependent values are completed).
+    contacts : list of str, optional
+        Contacts to keep sticking (default: every touching contact).
+    """
+    if not model.contacts:
+        raise ModelError("realizability: the model has no [[contacts]]",
+                         None if model.source == "<api>" else model.source)
+    if contacts is not None:
+        names = [c.name for c in model.contacts]
+        for c in contacts:
+            if c not in names:
+                raise ModelError(f"realizability: no contact '{c}'{did_you_mean(c, names)}")
+    kernel = kernel_of(model)
+    params = parameter_vector(model, parameters)
+    t = model.t0 if t is None else float(t)
+    given = dict(model.numeric_initial())
+    given.update(at or {})
+    q, qd, _ = complete_state(kernel, given, params, t)
+    solver = ModeSolver(kernel, params)
+    mode = _stick_mode(solver, t, q, qd, contacts)
+    sol = solver.solve(t, q, qd, mode)
+    state = dict(zip(model.coordinates, map(float, q)))
+    state.update({c + "'": float(v) for c, v in zip(model.coordinates, qd)})
+    others = {name: cs.label() for name, cs in mode.contacts
+              if contacts is not None and name not in contacts}
+    return RealizabilityReport(model.name, t, state, _assess(solver, sol, mode), others=others)
+
+
+def realizability_along(model: Model, t_end: float | None = None, samples: int = 201,
+                        parameters: Mapping[str, float] | None = None) -> RealizabilityReport:
+    """Follow the sticking (rolling) motion and find when rolling stops being realizable.
+
+    The hybrid simulation starts with the touching contacts sticking and stops at the first
+    slip or lift-off event, whose time is located exactly (root of the margin
+    ``mu_s N - |F*|``, or of ``N``).  Until then the motion is the nonholonomic one.
+    """
+    from ..simulation.hybrid import Simulation
+
+    report = realizability(model, parameters=parameters)
+    sim = Simulation(model, parameters=parameters)
+    t_end = t_end if t_end is not None else model.simulation.t_end
+    if t_end is None:
+        raise ModelError("realizability --along needs an end time ([simulation] t_end or --t-end)")
+    traj = sim.run(t_end=t_end, times=np.linspace(model.t0, t_end, samples),
+                   stop_on={"slip", "lift-off"})
+    margins = {}
+    for c, (name, rec) in enumerate(traj.contacts.items()):
+        if c in sim.solver.frictionless:
+            continue
+        F = np.array(rec["friction"], dtype=float)
+        margins[name] = np.array(rec["mu_static"]) * np.abs(rec["normal"]) - np.linalg.norm(F, axis=1)
+    first = next((e for e in traj.events if e["type"] in ("slip", "lift-off")), None)
+    allm = np.min(np.vstack(list(margins.values())), axis=0) if margins else np.zeros(len(traj.t))
+    k = int(np.argmin(allm)) if allm.size else 0
+    report.along = {
+        "t_end": float(traj.t[-1]),
+        "lost_at": float(first["t"]) if first else None,
+        "reason": {"slip": "needed friction reached mu_s N", "lift-off": "normal force reached zero"}
+        .get(first["type"]) if first else None,
+        "contact": first.get("contact") if first else None,
+        "min_margin": float(allm[k]) if allm.size else None,
+        "min_margin_t": float(traj.t[k]) if allm.size else None,
+        "t": [float(v) for v in traj.t],
+        "margin": {k_: [float(v) for v in m] for k_, m in margins.items()},
+    }
+    return report
+
+
+def regularized(model: Model, eps: float, law: str = "linearized") -> Model:
+    """The model with every Coulomb contact replaced by the epsilon-linear law of seed 001
+    (``law="linearized"``: ``F = -mu N U/eps`` for ``|U| <= eps``) or the smooth law
+    (``law="smooth"``: ``F = -mu N U/sqrt(|U|^2 + eps^2)``)."""
+    cls = {"linearized": LinearizedCoulomb, "smooth": RegularizedCoulomb}.get(law)
+    if cls is None:
+        raise ModelError(f"regularized: law must be 'linearized' or 'smooth' (got {law!r})")
+    contacts = []
+    for c in model.contacts:
+        fr = c.friction
+        mu = fr.mu if isinstance(fr, Coulomb) else fr.mu
+        contacts.append(replace(c, friction=cls(mu, eps)))
+    return model.replace(contacts=tuple(contacts), name=f"{model.name} (regularized, eps = {eps:g})")

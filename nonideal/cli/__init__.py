@@ -1,0 +1,83 @@
+"""The ``nonideal`` command line.
+
+One module per command, each with ``add_parser(subparsers, ctx)`` and ``run(args) -> int``;
+:data:`COMMANDS` lists them in the order of ``nonideal --help``.  To add a command, write its
+module and add its name here.
+
+Exit codes: 0 success; 2 bad input (the message names the file, the key and the fix);
+3 the mechanics has no consistent or no unique answer.  Nothing is written to an output path
+unless the run succeeded (:mod:`nonideal.cli.outputs`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from pathlib import Path
+
+from ..errors import MechanicsError, ModelError, NonidealError
+
+__all__ = ["main", "build_parser", "COMMANDS"]
+
+#: the commands, each a module of this package
+COMMANDS = ("check", "derive", "evaluate", "simulate", "realizability", "friction_law", "examples")
+
+
+def version() -> str:
+    """The installed version (the package metadata), or the source tree's."""
+    try:
+        from importlib.metadata import PackageNotFoundError, version as _version
+
+        return _version("nonideal")
+    except (ImportError, PackageNotFoundError):   # pragma: no cover - a source checkout
+        from .. import __version__
+
+        return __version__
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from .common import ParserContext
+
+    p = argparse.ArgumentParser(
+        prog="nonideal",
+        description="Analytical dynamics of systems with ideal and non-ideal constraints.",
+        epilog="Exit codes: 0 success, 2 bad input, 3 mechanics without a consistent or unique answer.")
+    p.add_argument("--version", action="version", version=f"nonideal {version()}")
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    ctx = ParserContext()
+    for name in COMMANDS:
+        importlib.import_module(f"{__name__}.{name}").add_parser(sub, ctx)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    from .common import numerical_warnings
+
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:   # --help (0) or a usage error (2): return, do not exit
+        return int(exc.code or 0)
+    try:
+        with numerical_warnings():
+            return args.func(args)
+    except ModelError as exc:
+        model = getattr(args, "model", None)
+        if (exc.source is None and isinstance(model, str) and Path(model).is_file()
+                and not all(str(pr).startswith("--") for pr in exc.problems)):
+            exc = exc.with_source(model)  # an error found past the file's parsing names it too
+        print(f"error: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except MechanicsError as exc:
+        print(f"mechanics: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except NonidealError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except BrokenPipeError:  # pragma: no cover
+        return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,62 @@
+"""``nonideal derive``."""
+
+from __future__ import annotations
+
+from ..errors import ModelError
+from .common import json_option, model_argument, load_spec, check_options, parse_independent, parse_contact_states, well_posed_at_start, form_type
+from .outputs import Outputs, emit_json
+
+
+def add_parser(sub, ctx) -> None:
+    forms, form_help = ctx.forms, ctx.form_help
+    d = sub.add_parser("derive", help="equations of motion in a classical form",
+                       description="Equations of motion of a model in a classical form.")
+    model_argument(d)
+    d.add_argument("--form", default="lagrange1", type=form_type(forms), metavar="FORM",
+                   help=form_help)
+    fmt = d.add_mutually_exclusive_group()
+    fmt.add_argument("--latex", action="store_true", help="print LaTeX")
+    json_option(fmt)
+    d.add_argument("--independent", help="independent coordinates for the reduced forms, comma-separated")
+    d.add_argument("--simplify", action="store_true", help="trigsimp the printed equations (can be slow)")
+    d.add_argument("--contact", action="append", metavar="NAME=STATE",
+                   help="state of a contact: separated, stick, slide+, slide- (one slip component) "
+                   "or slide (two); repeatable; default: its state at t0")
+    d.add_argument("--friction", choices=["physical", "painleve"], default="physical",
+                   help="physical: a sliding contact's normal force carries -mu N s (default); "
+                   "painleve: the touching contacts (at t0, or not separated by --contact) as ideal "
+                   "constraints plus the friction force M V mu of the seed's extended method of "
+                   "combining constraints")
+    d.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..analysis.derivation import derive
+
+    check_options(args)
+    model = load_spec(args.model, args.set)
+    well_posed_at_start(model)
+    independent = parse_independent(args.independent, model, args.form)
+    states = parse_contact_states(args.contact, model)
+    if args.friction == "painleve":
+        from ..analysis.friction_law import painleve_model, touching_contacts
+
+        closed = touching_contacts(model, states) if model.contacts else None
+        eom = derive(painleve_model(model, closed)[0], args.form, independent=independent)
+    elif model.contacts:
+        from ..analysis.friction_law import derive_in_mode
+
+        eom = derive_in_mode(model, args.form, states, independent)
+    else:
+        if states:
+            raise ModelError("--contact: the model has no [[contacts]]")
+        eom = derive(model, args.form, independent=independent)
+    outputs = Outputs()
+    if args.json:
+        emit_json(args, eom.to_dict(), outputs)
+    elif args.latex:
+        print(eom.as_latex(simplify=args.simplify))
+    else:
+        print(eom.as_text(simplify=args.simplify))
+    outputs.commit()
+    return 0

@@ -1,0 +1,105 @@
+"""``nonideal simulate``."""
+
+from __future__ import annotations
+
+import json
+
+from ..errors import MechanicsError, ModelError
+from .common import json_option, model_argument, load_spec, check_options, parse_times, explained, form_type, method_type, METHODS, PLOT_SAMPLES
+from .outputs import Outputs, emit_json
+
+
+def add_parser(sub, ctx) -> None:
+    solvers, solver_help = ctx.solvers, ctx.solver_help
+    s = sub.add_parser("simulate", help="the hybrid simulation",
+                       description="The hybrid simulation with exact switching of modes.")
+    model_argument(s)
+    s.add_argument("--t-end", type=float, default=None, help="end time (default: [simulation] t_end)")
+    s.add_argument("--times", help="output exactly at these times, comma-separated, strictly "
+                   "increasing (negative times: --times=-1,0,1)")
+    s.add_argument("--form", default="lagrange1", type=form_type(solvers), metavar="FORM",
+                   help=solver_help)
+    s.add_argument("--rtol", type=float, help="relative tolerance (default: [simulation] rtol)")
+    s.add_argument("--atol", type=float, help="absolute tolerance (default: [simulation] atol)")
+    s.add_argument("--method", type=method_type, metavar="METHOD",
+                   help=f"integrator: {', '.join(METHODS)} (default: [simulation] method)")
+    json_option(s)
+    s.add_argument("--csv", metavar="OUT", help="write the trajectory as CSV (at --times, else on 601 uniform samples)")
+    s.add_argument("--plot", metavar="PNG", help="plot the trajectory, reactions and energy")
+    s.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..simulation.hybrid import simulate
+
+    check_options(args)
+    model = load_spec(args.model, args.set)
+    times = parse_times(args.times) if args.times is not None else None
+    if args.t_end is not None and not args.t_end > model.t0:
+        raise ModelError(f"--t-end: must be later than t0 = {model.t0:g} (got {args.t_end:g})")
+    if times is not None and args.t_end is not None and times[-1] > args.t_end:
+        raise ModelError(f"--times: the last time {times[-1]:g} is after --t-end {args.t_end:g}; "
+                         "drop --t-end (it defaults to the last time) or extend it")
+    if times is not None and times[0] < model.t0:
+        raise ModelError(f"--times: {times[0]:g} is before the initial time t0 = {model.t0:g}"
+                         " ([simulation] t0)")
+    if args.t_end is None and times is None and model.simulation.t_end is None:
+        problems = ["no end time: give t_end in [simulation] (e.g. t_end = 10.0), or --t-end T "
+                    "or --times on the command line"]
+        try:   # report the initial state's problems too, in the same run
+            from ..numeric.consistency import complete_state
+            from ..numeric.kernel import kernel_of, parameter_vector
+
+            complete_state(kernel_of(model), model.numeric_initial(), parameter_vector(model),
+                           model.t0)
+        except ModelError as exc:
+            problems += exc.problems
+        raise ModelError(problems, None if model.source == "<api>" else model.source)
+    options = {}
+    for key in ("rtol", "atol", "method"):
+        if getattr(args, key) is not None:
+            options[key] = getattr(args, key)
+    try:
+        traj = simulate(model, t_end=args.t_end, times=times, form=args.form, **options)
+    except MechanicsError as exc:
+        raise explained(model, exc) from None
+    outputs = Outputs()
+    fine = traj
+    if (args.csv or args.plot) and times is None and len(traj.t) < PLOT_SAMPLES:
+        # the integrator's steps are far apart for a table or a drawing: the same run sampled
+        # on a fine uniform grid (dense output; the events are in the JSON and on the plot)
+        import numpy as np
+
+        grid = np.linspace(traj.t[0], traj.t[-1], PLOT_SAMPLES)
+        fine = simulate(model, t_end=traj.t[-1], times=grid, form=args.form, **options)
+    if args.csv:
+        outputs.add("--csv", args.csv, fine.to_csv)
+    if args.plot:
+        from ..plotting import plot_trajectory
+
+        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(fine, tmp))
+    stdout = None
+    if args.json == "-":
+        stdout = json.dumps(traj.to_dict(), indent=1, allow_nan=True)
+    elif args.json:
+        emit_json(args, traj.to_dict(), outputs)
+    outputs.commit()
+    if stdout is not None:
+        print(stdout)
+    elif not args.json:
+        d = traj.diagnostics
+        print(f"{traj.model}: simulated t = {traj.t[0]:g} .. {traj.t[-1]:g} "
+              f"({d['samples']} samples, {d['events']} events, form {d['form']}, {d['method']})")
+        for k, c in enumerate(traj.coordinates):
+            print(f"  {c:>10}(t_end) = {traj.q[-1, k]: .12g}   {c}'(t_end) = {traj.qd[-1, k]: .12g}")
+        shown = traj.events if len(traj.events) <= 24 else traj.events[:20]
+        for e in shown:
+            print(f"  event at t = {e['t']:.12g}: {e['type']} {e.get('constraint', e.get('contact', ''))}"
+                  f" -> mode [{e.get('mode', '')}]")
+        if len(shown) < len(traj.events):
+            last = traj.events[-1]
+            print(f"  ... {len(traj.events) - len(shown)} more events, the last at t = {last['t']:.12g} "
+                  f"-> mode [{last.get('mode', '')}] (all of them: --json or --csv)")
+        print(f"  constraint residual max = {d['constraint_residual_max']:.3e}, "
+              f"energy balance (relative) = {d['energy_balance_relative']:.3e}")
+    return 0

@@ -1,0 +1,457 @@
+"""The symbolic kernel shared by every formalism (SymEngine, computed once per model).
+
+For a :class:`~nonideal.model.Model` it builds
+
+* ``T`` (kinetic energy), ``V`` (potential), ``Q_nc`` (non-potential generalized forces);
+* the Lagrange operator ``d/dt dT/dq' - dT/dq = M q'' + h`` split into the mass matrix ``M``
+  and the velocity terms ``h``;
+* ``F = Q_nc - dV/dq - h`` so that the free motion is ``M q'' = F``;
+* the acceleration energy ``S`` (Gibbs--Appell), genuinely from the bodies' accelerations
+  when the model is built from bodies, else from Appell's identity
+  ``dS/dq'' = d/dt dT/dq' - dT/dq`` (``S = q''^T M q''/2 + q''^T h`` up to q''-free terms);
+* for every constraint the row of ``G q'' + gamma = 0``, its reaction column and residuals.
+
+Bodies are handled the way Kane does it (no differentiation of T): for a point at
+``r(q, t)`` with Jacobian ``J``, ``a = J q'' + a0`` contributes ``m J^T J`` to M and
+``m J^T a0`` to h.  This keeps expression size polynomial in the number of bodies.
+
+Symbols: ``q``, ``qd``, ``qdd`` are SymEngine symbols named like the SymPy ones of
+:mod:`nonideal.symbols`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import symengine as se
+
+from ..modeling.bodies import Force, PlanarBody, RigidBody, Torque
+from ..errors import ModelError, SingularSystem
+from ..modeling.model import Constraint, Model
+from ..modeling.symbols import to_se
+
+__all__ = ["Dynamics", "ConstraintRow", "dynamics_of"]
+
+MAX_OPS = 2_000_000  # size guard for symbolic work (count of operations)
+
+
+@dataclass(frozen=True)
+class ConstraintRow:
+    """One scalar constraint at acceleration level ``G . q'' + gamma = 0``.
+
+    Attributes
+    ----------
+    name : str
+    G : list of se.Expr, length n_q
+    gamma : se.Expr
+    B : list of se.Expr, length n_q -- reaction direction (``G`` for an ideal constraint)
+    position : se.Expr or None -- f(q, t) for a holonomic constraint
+    velocity : se.Expr or None -- df/dt, or phi(q, q', t) for a first-order one
+    order : int
+    unilateral : bool
+    """
+
+    name: str
+    G: tuple
+    gamma: object
+    B: tuple
+    position: object
+    velocity: object
+    order: int
+    unilateral: bool
+    reaction_kind: str
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+class Dynamics:
+    """Symbolic kernel of a model.  Never mutates the model; every product is cached."""
+
+    def __init__(self, model: Model):
+        self.model = model
+        self.t = se.Symbol("t")
+        self.q = [se.Symbol(s.name) for s in model.q]
+        self.qd = [se.Symbol(s.name) for s in model.qd]
+        self.qdd = [se.Symbol(s.name) for s in model.qdd]
+        self.params = [se.Symbol(n) for n in model.parameters]
+        self.n = model.n_q
+
+    # ------------------------------------------------------------ derivatives
+    def dt(self, expr, with_acceleration: bool = True):
+        """Total time derivative of an expression in (q, q', t) [and q'' if present].
+
+        With ``with_acceleration=False`` the q'' terms are dropped (the part of the
+        derivative that does not contain accelerations).
+        """
+        expr = se.sympify(expr)
+        free = expr.free_symbols
+        out = se.diff(expr, self.t) if self.t in free else se.Integer(0)
+        for qk, vk, ak in zip(self.q, self.qd, self.qdd):
+            if qk in free:
+                out += se.diff(expr, qk) * vk
+            if with_acceleration and vk in free:
+                out += se.diff(expr, vk) * ak
+        return out
+
+    def jacobian(self, exprs, wrt):
+        return [[se.diff(e, v) for v in wrt] for e in exprs]
+
+    # ------------------------------------------------------------ bodies
+    def _point(self, position):
+        """Jacobian J, velocity v, and acceleration a = J q'' + a0 of a point r(q, t)."""
+        r = [to_se(c) for c in position]
+        J = self.jacobian(r, self.q)
+        v = [sum((J[i][k] * self.qd[k] for k in range(self.n)), se.Integer(0)) + se.diff(r[i], self.t)
+             for i in range(len(r))]
+        a0 = [self.dt(vi, with_acceleration=False) for vi in v]
+        return r, J, v, a0
+
+    def _angular(self, body: RigidBody):
+        """Body-frame angular velocity Omega = Jw q' + Omega_t and its derivative part."""
+        R = [[to_se(x) for x in row] for row in body.rotation]
+        Rdot = [[self.dt(x, with_acceleration=False) for x in row] for row in R]
+        # W = R^T Rdot (skew); Omega = (W21, W02, W10)
+        def w(i, j):
+            return sum((R[k][i] * Rdot[k][j] for k in range(3)), se.Integer(0))
+        omega = [se.expand(w(2, 1)), se.expand(w(0, 2)), se.expand(w(1, 0))]
+        Jw = self.jacobian(omega, self.qd)
+        dom0 = [self.dt(o, with_acceleration=False) for o in omega]
+        return R, omega, Jw, dom0
+
+    @cached_property
+    def _bodies(self):
+        """Per-body kinematics, computed once: list of dicts."""
+        out = []
+        for b in self.model.bodies:
+            r, J, v, a0 = self._point(b.position)
+            item = {"body": b, "m": to_se(b.mass), "r": r, "J": J, "v": v, "a0": a0}
+            if isinstance(b, PlanarBody):
+                phi = to_se(b.angle)
+                Jp = [se.diff(phi, qk) for qk in self.q]
+                omega = sum((Jp[k] * self.qd[k] for k in range(self.n)), se.Integer(0)) + se.diff(phi, self.t)
+                item.update(I=to_se(b.inertia), phi=phi, Jp=Jp, omega=omega,
+                            eps0=self.dt(omega, with_acceleration=False))
+            elif isinstance(b, RigidBody):
+                R, omega, Jw, dom0 = self._angular(b)
+                item.update(I=[[to_se(x) for x in row] for row in b.inertia], R=R, Omega=omega,
+                            Jw=Jw, dOmega0=dom0)
+            out.append(item)
+        return out
+
+    # ------------------------------------------------------------ energies and forces
+    @cached_property
+    def T(self):
+        """Kinetic energy (expression plus bodies)."""
+        T = to_se(self.model.kinetic)
+        for it in self._bodies:
+            T += it["m"] * sum((vi * vi for vi in it["v"]), se.Integer(0)) / 2
+            b = it["body"]
+            if isinstance(b, PlanarBody):
+                T += it["I"] * it["omega"] ** 2 / 2
+            elif isinstance(b, RigidBody):
+                Om, I = it["Omega"], it["I"]
+                T += sum((Om[i] * I[i][j] * Om[j] for i in range(3) for j in range(3)), se.Integer(0)) / 2
+        return T
+
+    @cached_property
+    def V(self):
+        """Potential energy (expression plus uniform gravity on the bodies)."""
+        V = to_se(self.model.potential)
+        if self.model.gravity is not None:
+            g = [to_se(c) for c in self.model.gravity]
+            for it in self._bodies:
+                r = it["r"]
+                if len(r) != len(g):
+                    raise ModelError(
+                        f"body '{it['body'].name}': position has {len(r)} components but "
+                        f"[gravity] vector has {len(g)}; give the gravity vector as many "
+                        f"components as the positions ({len(r)})", _source(self.model))
+                V -= it["m"] * sum((gi * ri for gi, ri in zip(g, r)), se.Integer(0))
+        return V
+
+    @cached_property
+    def Q_nc(self):
+        """Non-potential generalized forces: declared ones plus loads by virtual work."""
+        Q = [to_se(f) for f in self.model.forces]
+        bodies = {it["body"].name: it for it in self._bodies}
+        for ld in self.model.loads:
+            if isinstance(ld, Force):
+                r = [to_se(c) for c in ld.point]
+                F = [to_se(c) for c in ld.force]
+                for k, qk in enumerate(self.q):
+                    Q[k] += sum((Fi * se.diff(ri, qk) for Fi, ri in zip(F, r)), se.Integer(0))
+            elif isinstance(ld, Torque) and ld.body is None:
+                tau, phi = to_se(ld.torque), to_se(ld.angle)
+                for k, qk in enumerate(self.q):
+                    Q[k] += tau * se.diff(phi, qk)
+            elif isinstance(ld, Torque):
+                it = bodies[ld.body]
+                tau = [to_se(c) for c in ld.torque]
+                R, Jw = it["R"], it["Jw"]
+                for k in range(self.n):
+                    w_world = [sum((R[i][j] * Jw[j][k] for j in range(3)), se.Integer(0)) for i in range(3)]
+                    Q[k] += sum((tau[i] * w_world[i] for i in range(3)), se.Integer(0))
+        return Q
+
+    @cached_property
+    def dV(self):
+        return [se.diff(self.V, qk) for qk in self.q]
+
+    @cached_property
+    def Q(self):
+        """All generalized active forces ``Q_nc - dV/dq``."""
+        return [a - b for a, b in zip(self.Q_nc, self.dV)]
+
+    # ------------------------------------------------------------ Lagrange operator
+    @cached_property
+    def _inertia(self):
+        n = self.n
+        M = [[se.Integer(0)] * n for _ in range(n)]
+        h = [se.Integer(0)] * n
+        T = to_se(self.model.kinetic)
+        if T != 0:
+            p = [se.diff(T, v) for v in self.qd]
+            for i in range(n):
+                for j in range(i, n):
+                    M[i][j] = se.diff(p[i], self.qd[j])
+                    M[j][i] = M[i][j]
+                h[i] = self.dt(p[i], with_acceleration=False) - se.diff(T, self.q[i])
+                if any(a in h[i].free_symbols for a in self.qdd):  # pragma: no cover
+                    raise SingularSystem("kinetic energy contains accelerations")
+        for it in self._bodies:
+            m, J, a0 = it["m"], it["J"], it["a0"]
+            dim = len(J)
+            for i in range(n):
+                for j in range(i, n):
+                    s = sum((J[d][i] * J[d][j] for d in range(dim)), se.Integer(0))
+                    if s != 0:
+                        M[i][j] += m * s
+                        if j != i:
+                            M[j][i] = M[i][j]
+                h[i] += m * sum((J[d][i] * a0[d] for d in range(dim)), se.Integer(0))
+            b = it["body"]
+            if isinstance(b, PlanarBody):
+                I, Jp, eps0 = it["I"], it["Jp"], it["eps0"]
+                for i in range(n):
+                    if Jp[i] == 0:
+                        continue
+                    for j in range(i, n):
+                        if Jp[j] != 0:
+                            M[i][j] += I * Jp[i] * Jp[j]
+                            if j != i:
+                                M[j][i] = M[i][j]
+                    h[i] += I * Jp[i] * eps0
+            elif isinstance(b, RigidBody):
+                I, Jw, Om, dOm0 = it["I"], it["Jw"], it["Omega"], it["dOmega0"]
+                IOm = [sum((I[r][c] * Om[c] for c in range(3)), se.Integer(0)) for r in range(3)]
+                gyro = _cross(Om, IOm)
+                eul = [sum((I[r][c] * dOm0[c] for c in range(3)), se.Integer(0)) + gyro[r] for r in range(3)]
+                for i in range(n):
+                    IJ = [sum((I[r][c] * Jw[c][i] for c in range(3)), se.Integer(0)) for r in range(3)]
+                    for j in range(i, n):
+                        s = sum((Jw[r][j] * IJ[r] for r in range(3)), se.Integer(0))
+                        if s != 0:
+                            M[i][j] += s
+                            if j != i:
+                                M[j][i] = M[i][j]
+                    h[i] += sum((Jw[r][i] * eul[r] for r in range(3)), se.Integer(0))
+        return se.Matrix(M), se.Matrix(h)
+
+    @property
+    def M(self) -> se.DenseMatrix:
+        """Mass matrix, shape (n_q, n_q)."""
+        return self._inertia[0]
+
+    @property
+    def h(self) -> se.DenseMatrix:
+        """Velocity terms of the Lagrange operator, shape (n_q, 1)."""
+        return self._inertia[1]
+
+    @cached_property
+    def F(self) -> se.DenseMatrix:
+        """Forcing ``Q_nc - dV/dq - h``, shape (n_q, 1): free motion is ``M q'' = F``."""
+        return se.Matrix([self.Q[i] - self.h[i] for i in range(self.n)])
+
+    @cached_property
+    def S(self):
+        """Acceleration energy (up to terms without accelerations)."""
+        n = self.n
+        S = se.Integer(0)
+        T = to_se(self.model.kinetic)
+        if T != 0:
+            p = [se.diff(T, v) for v in self.qd]
+            for i in range(n):
+                Li = self.dt(p[i], with_acceleration=True) - se.diff(T, self.q[i])
+                # integrate dS/dq''_i = L_i(T) (linear in q''): S = sum_i q''_i (h_i + 1/2 sum_j M_ij q''_j)
+                acc_free = Li.subs({a: 0 for a in self.qdd})
+                S += self.qdd[i] * (acc_free + (Li - acc_free) / 2)
+        for it in self._bodies:
+            m, J, a0 = it["m"], it["J"], it["a0"]
+            a = [sum((J[d][k] * self.qdd[k] for k in range(n)), se.Integer(0)) + a0[d] for d in range(len(J))]
+            S += m * sum((ai * ai for ai in a), se.Integer(0)) / 2
+            b = it["body"]
+            if isinstance(b, PlanarBody):
+                eps = sum((it["Jp"][k] * self.qdd[k] for k in range(n)), se.Integer(0)) + it["eps0"]
+                S += it["I"] * eps * eps / 2
+            elif isinstance(b, RigidBody):
+                I, Jw, Om, dOm0 = it["I"], it["Jw"], it["Omega"], it["dOmega0"]
+                eps = [sum((Jw[r][k] * self.qdd[k] for k in range(n)), se.Integer(0)) + dOm0[r] for r in range(3)]
+                Ieps = [sum((I[r][c] * eps[c] for c in range(3)), se.Integer(0)) for r in range(3)]
+                IOm = [sum((I[r][c] * Om[c] for c in range(3)), se.Integer(0)) for r in range(3)]
+                gyro = _cross(Om, IOm)
+                S += sum((eps[r] * Ieps[r] for r in range(3)), se.Integer(0)) / 2
+                S += sum((eps[r] * gyro[r] for r in range(3)), se.Integer(0))
+        return S
+
+    @cached_property
+    def T0(self):
+        """Kinetic energy at zero velocities (the T0 term of T = T2 + T1 + T0)."""
+        return self.T.subs({v: 0 for v in self.qd})
+
+    # ------------------------------------------------------------ constraints
+    def constraint_row(self, c: Constraint) -> ConstraintRow:
+        return self._rows[c.name]
+
+    @cached_property
+    def _rows(self) -> dict[str, ConstraintRow]:
+        out = {}
+        for c in self.model.constraints:
+            out[c.name] = self._row(c)
+        return out
+
+    def _row(self, c: Constraint) -> ConstraintRow:
+        expr = to_se(c.expr)
+        if c.order == 0:
+            G = [se.diff(expr, qk) for qk in self.q]
+            vel = self.dt(expr, with_acceleration=False)
+            gamma = self.dt(vel, with_acceleration=False)
+            position = expr
+        elif c.order == 1:
+            G = [se.diff(expr, v) for v in self.qd]
+            gamma = self.dt(expr, with_acceleration=False)
+            vel, position = expr, None
+        else:
+            G = [se.diff(expr, a) for a in self.qdd]
+            gamma = expr.subs({a: 0 for a in self.qdd})
+            vel = position = None
+        if c.reaction is not None:
+            B = [to_se(r) for r in c.reaction]
+        elif c.transform is not None:
+            A = se.Matrix([[to_se(x) for x in row] for row in c.transform])
+            try:
+                B = list(A.LUsolve(se.Matrix(G)))
+            except Exception as exc:  # pragma: no cover - symengine raises RuntimeError
+                raise SingularSystem(f"constraint '{c.name}': transform matrix is singular ({exc}); "
+                                     "the transform must be an invertible n x n matrix",
+                                     _source(self.model)) from None
+        else:
+            B = list(G)
+        return ConstraintRow(c.name, tuple(G), gamma, tuple(B), position, vel, c.order,
+                             c.unilateral, c.reaction_kind)
+
+    def rows(self, names=None) -> list[ConstraintRow]:
+        """Constraint rows in model order, restricted to *names* if given."""
+        return [self._rows[c.name] for c in self.model.constraints if names is None or c.name in names]
+
+
+    # ------------------------------------------------------------ contacts
+    @cached_property
+    def contacts(self) -> list["ContactData"]:
+        """Symbolic data of every contact (gap row, slip rows, friction coefficients)."""
+        return [self._contact(c) for c in self.model.contacts]
+
+    def _contact(self, c) -> "ContactData":
+        from ..modeling.contacts import Coulomb
+
+        g = to_se(c.gap)
+        Gn = tuple(se.diff(g, qk) for qk in self.q)
+        gdot = self.dt(g, with_acceleration=False)
+        gamma_n = self.dt(gdot, with_acceleration=False)
+        U = tuple(to_se(u) for u in c.slip)
+        W = tuple(tuple(se.diff(u, v) for v in self.qd) for u in U)
+        gamma_U = tuple(self.dt(u, with_acceleration=False) for u in U)
+        law = c.friction
+        mu = to_se(law.mu)
+        mu_s = to_se(law.mu_static) if isinstance(law, Coulomb) else mu
+        return ContactData(c.name, g, gdot, Gn, gamma_n, U, W, gamma_U, mu, mu_s, law,
+                           c.bilateral, float(c.impact.restitution))
+
+    def contact_rows(self, index: int, state: str, sigma: int = 1, direction=None) -> list[ConstraintRow]:
+        """Symbolic constraint rows of contact *index* in a contact *state*.
+
+        ``"stick"``: the gap row (ideal, multiplier N) and one ideal nonholonomic row per slip
+        component (multiplier = friction force component).  ``"slide"``: the gap row whose
+        reaction carries the friction ``B = dg/dq - sigma mu sum_k W_k s_k`` with the slip
+        direction ``s`` given by *direction* (numbers for one component, or symbols named
+        ``s[name,k]`` supplied at evaluation).  ``"separated"``: no row.
+        """
+        cd = self.contacts[index]
+        if state == "separated":
+            return []
+        gap = ConstraintRow(cd.name, cd.Gn, cd.gamma_n, cd.Gn, cd.gap, cd.gap_rate, 0,
+                            not cd.bilateral, "ideal")
+        if state == "stick":
+            rows = [gap]
+            for k in range(len(cd.U)):
+                rows.append(ConstraintRow(f"{cd.name}_t{k + 1}" if len(cd.U) > 1 else f"{cd.name}_t",
+                                          cd.W[k], cd.gamma_U[k], cd.W[k], None, cd.U[k], 1, False, "ideal"))
+            return rows
+        if direction is None:
+            direction = [se.Symbol(f"s[{cd.name},{k + 1}]") for k in range(len(cd.U))]
+        B = tuple(cd.Gn[j] - sigma * cd.mu * sum((cd.W[k][j] * direction[k] for k in range(len(cd.U))),
+                                                se.Integer(0)) for j in range(self.n))
+        return [ConstraintRow(cd.name, cd.Gn, cd.gamma_n, B, cd.gap, cd.gap_rate, 0,
+                              not cd.bilateral, "friction")]
+
+
+@dataclass(frozen=True)
+class ContactData:
+    """Symbolic data of a contact: gap ``g``, ``g'``, ``dg/dq``, ``gamma_n`` (so that
+    ``g'' = dg/dq . q'' + gamma_n``), slip velocities ``U``, their Jacobian ``W`` and
+    ``gamma_U`` (``U' = W q'' + gamma_U``), friction coefficients."""
+
+    name: str
+    gap: object
+    gap_rate: object
+    Gn: tuple
+    gamma_n: object
+    U: tuple
+    W: tuple
+    gamma_U: tuple
+    mu: object
+    mu_s: object
+    law: object
+    bilateral: bool
+    restitution: float
+
+
+_CACHE: dict[int, tuple[Model, Dynamics]] = {}
+
+
+def _source(model: Model) -> str | None:
+    """The model file to name in an error (None for a model built in Python)."""
+    return None if model.source == "<api>" else model.source
+
+
+def dynamics_of(model: Model) -> Dynamics:
+    """The (cached) symbolic kernel of *model*.  Models are immutable, so caching is safe."""
+    key = id(model)
+    hit = _CACHE.get(key)
+    if hit is not None and hit[0] is model:
+        return hit[1]
+    dyn = Dynamics(model)
+    if len(_CACHE) > 64:
+        _CACHE.clear()
+    _CACHE[key] = (model, dyn)
+    return dyn
+
+
+def count_ops(exprs) -> int:
+    """Total operation count of SymEngine expressions (used by the size guard)."""
+    total = 0
+    for e in exprs:
+        total += se.count_ops(e) if hasattr(se, "count_ops") else len(str(e))
+    return total

@@ -1,0 +1,262 @@
+"""One result type for every formalism: :class:`EquationsOfMotion`.
+
+Every form (``lagrange1``, ``lagrange2``, ``maggi``, ``appell``, ``shulgin``, ``servo``) fills
+the same structure.  With ``a`` the form's unknown accelerations (all ``q''`` for Lagrange I,
+the independent ones for the reduced forms) and ``mu`` the multipliers the form keeps::
+
+    A a + c = Q_f + B mu          (k equations: inertia terms = forces + reactions)
+    G a + gamma = 0               (one row per kept constraint)
+    q'' = R a + r                 (back to all coordinates)
+
+Reduced forms eliminate the ideal constraints; non-ideal ones (servo, quasi-ideal, sliding
+friction) keep their multipliers.  Auxiliary quantities (dependent-velocity coefficients that
+would be expensive to write explicitly) appear as symbols defined by linear systems in
+``auxiliaries``; the numerics solve those systems numerically.
+
+Internally the matrices are SymEngine; the public properties return SymPy objects, converted
+on first access.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+import symengine as se
+import sympy as sp
+
+from ..modeling.symbols import latex_names, to_sp
+
+__all__ = ["EquationsOfMotion", "Auxiliary"]
+
+
+@dataclass(frozen=True)
+class Auxiliary:
+    """Auxiliary symbols ``X`` defined by a linear system ``K X = Y`` (solved numerically).
+
+    Attributes
+    ----------
+    symbols : se.DenseMatrix, shape (m, p)
+    K : se.DenseMatrix, shape (m, m)
+    Y : se.DenseMatrix, shape (m, p)
+    meaning : str
+    """
+
+    symbols: Any
+    K: Any
+    Y: Any
+    meaning: str
+
+
+@dataclass(frozen=True, eq=False)
+class EquationsOfMotion:
+    """Equations of motion of a model in one classical form.
+
+    Attributes
+    ----------
+    form : str
+        ``"lagrange1"``, ``"lagrange2"``, ``"maggi"``, ``"appell"``, ``"shulgin"``.
+    title, citation : str
+        Name of the form and where it comes from.
+    model : Model
+    unknowns : tuple of str
+        Names of the unknown accelerations ``a`` (``"x''"``...).
+    multipliers : tuple of str
+        Names of the multipliers kept in the equations.
+    constraint_names : tuple of str
+        Constraint (or contact row) each multiplier belongs to.
+    rows : tuple
+        The :class:`~nonideal.dynamics.ConstraintRow` objects the equations were derived for.
+    independent : tuple of str
+        Coordinates whose accelerations are the unknowns (reduced forms) -- or all.
+    notes : tuple of str
+        Remarks printed with the equations (eliminations, branch choices, misprints).
+    """
+
+    form: str
+    title: str
+    citation: str
+    model: Any
+    unknowns: tuple[str, ...]
+    multipliers: tuple[str, ...]
+    constraint_names: tuple[str, ...]
+    rows: tuple[Any, ...]
+    independent: tuple[str, ...]
+    A_: Any
+    c_: Any
+    Qf_: Any
+    B_: Any
+    G_: Any
+    gamma_: Any
+    R_: Any
+    r_: Any
+    auxiliaries: tuple[Auxiliary, ...] = ()
+    extras_: dict[str, Any] = field(default_factory=dict)
+    notes: tuple[str, ...] = ()
+    eliminated: tuple[str, ...] = ()
+
+    # ---------------------------------------------------------------- shapes
+    @property
+    def k(self) -> int:
+        """Number of unknown accelerations."""
+        return len(self.unknowns)
+
+    # ---------------------------------------------------------------- SymPy views
+    @cached_property
+    def _memo(self) -> dict:
+        """SymEngine -> SymPy nodes converted so far (the views share subexpressions)."""
+        return {}
+
+    def _sp(self, expr):
+        return to_sp(expr, self._memo)
+
+    @cached_property
+    def mass_matrix(self) -> sp.Matrix:
+        """``A``, shape (k, k)."""
+        return self._sp(self.A_)
+
+    @cached_property
+    def inertial_terms(self) -> sp.Matrix:
+        """``c``: velocity-dependent inertia terms on the left, shape (k, 1)."""
+        return self._sp(self.c_)
+
+    @cached_property
+    def generalized_forces(self) -> sp.Matrix:
+        """``Q_f``: active generalized forces on the right, shape (k, 1)."""
+        return self._sp(self.Qf_)
+
+    @cached_property
+    def forcing(self) -> sp.Matrix:
+        """``b = Q_f - c`` so that ``A a = b + B mu``, shape (k, 1)."""
+        return self._sp(self.Qf_ - self.c_)
+
+    @cached_property
+    def reaction_matrix(self) -> sp.Matrix:
+        """``B``, shape (k, n_mult)."""
+        return self._sp(self.B_)
+
+    @cached_property
+    def constraint_jacobian(self) -> sp.Matrix:
+        """``G``, shape (n_mult, k)."""
+        return self._sp(self.G_)
+
+    @cached_property
+    def constraint_bias(self) -> sp.Matrix:
+        """``gamma``, shape (n_mult, 1)."""
+        return self._sp(self.gamma_)
+
+    @cached_property
+    def acceleration_map(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """``(R, r)`` with ``q'' = R a + r``."""
+        return self._sp(self.R_), self._sp(self.r_)
+
+    @property
+    def unknown_symbols(self) -> list[sp.Symbol]:
+        return [sp.Symbol(n) for n in self.unknowns]
+
+    @property
+    def multiplier_symbols(self) -> list[sp.Symbol]:
+        return [sp.Symbol(n) for n in self.multipliers]
+
+    @cached_property
+    def extras(self) -> dict[str, Any]:
+        """Form-specific symbolic objects (``S`` for Appell, ``T*`` for Shulgin...), SymPy."""
+        out = {}
+        for key, value in self.extras_.items():
+            out[key] = self._sp(value) if not isinstance(value, str) else value
+        return out
+
+    def equations(self) -> list[sp.Eq]:
+        """The equations as SymPy ``Eq``: dynamics rows then constraint rows."""
+        a = sp.Matrix(self.unknown_symbols)
+        mu = sp.Matrix(self.multiplier_symbols)
+        A, c, Qf = self.mass_matrix, self.inertial_terms, self.generalized_forces
+        eqs = []
+        for i in range(self.k):
+            lhs = sum((A[i, j] * a[j] for j in range(self.k)), sp.Integer(0)) + c[i]
+            rhs = Qf[i]
+            if mu.shape[0]:
+                rhs += sum((self.reaction_matrix[i, j] * mu[j] for j in range(mu.shape[0])), sp.Integer(0))
+            eqs.append(sp.Eq(lhs, rhs, evaluate=False))
+        G, gamma = self.constraint_jacobian, self.constraint_bias
+        for i in range(G.shape[0]):
+            lhs = sum((G[i, j] * a[j] for j in range(self.k)), sp.Integer(0)) + gamma[i]
+            eqs.append(sp.Eq(lhs, 0, evaluate=False))
+        return eqs
+
+    # ---------------------------------------------------------------- printing
+    def _symbols_for_print(self):
+        syms = set()
+        for eq in self.equations():
+            syms |= eq.free_symbols
+        return syms
+
+    def as_text(self, simplify: bool = False) -> str:
+        """Plain text, one equation per line (``simplify`` runs ``trigsimp``: can be slow)."""
+        lines = [f"{self.title}  [{self.form}]", f"  source: {self.citation}"]
+        lines += [f"  note: {n}" for n in self.notes]
+        for key, value in self.extras.items():
+            lines.append(f"  {key} = {value}")
+        for aux in self.auxiliaries:
+            lines.append(f"  auxiliary: {aux.meaning}")
+        lines.append("  unknowns: " + ", ".join(self.unknowns))
+        if self.multipliers:
+            lines.append("  multipliers: " + ", ".join(self.multipliers))
+        for eq in self.equations():
+            lhs, rhs = eq.lhs, eq.rhs
+            if simplify:
+                lhs, rhs = sp.trigsimp(lhs), sp.trigsimp(rhs)
+            lines.append(f"  {sp.sstr(lhs)} = {sp.sstr(rhs)}")
+        return "\n".join(lines)
+
+    def as_latex(self, simplify: bool = False) -> str:
+        """LaTeX (an ``align*`` environment) in textbook notation (``\\ddot{x}``, ``\\lambda``)."""
+        names = latex_names(self._symbols_for_print() | {sp.Symbol(n) for n in self.unknowns})
+        rows = []
+        for eq in self.equations():
+            lhs, rhs = eq.lhs, eq.rhs
+            if simplify:
+                lhs, rhs = sp.trigsimp(lhs), sp.trigsimp(rhs)
+            rows.append(
+                sp.latex(lhs, symbol_names=names) + " &= " + sp.latex(rhs, symbol_names=names)
+            )
+        head = f"% {self.title} ({self.form}); {self.citation}\n"
+        for key, value in self.extras.items():
+            if isinstance(value, sp.Basic):
+                head += f"% {key} = " + sp.latex(value, symbol_names=latex_names(value.free_symbols)) + "\n"
+        return head + "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """Machine-readable form (strings in SymPy syntax)."""
+        return {
+            "form": self.form,
+            "title": self.title,
+            "citation": self.citation,
+            "model": self.model.name,
+            "unknowns": list(self.unknowns),
+            "multipliers": list(self.multipliers),
+            "constraints": list(self.constraint_names),
+            "eliminated": list(self.eliminated),
+            "independent": list(self.independent),
+            "notes": list(self.notes),
+            "mass_matrix": [[sp.sstr(x) for x in row] for row in self.mass_matrix.tolist()],
+            "inertial_terms": [sp.sstr(x) for x in self.inertial_terms],
+            "generalized_forces": [sp.sstr(x) for x in self.generalized_forces],
+            "reaction_matrix": [[sp.sstr(x) for x in row] for row in self.reaction_matrix.tolist()],
+            "constraint_jacobian": [[sp.sstr(x) for x in row] for row in self.constraint_jacobian.tolist()],
+            "constraint_bias": [sp.sstr(x) for x in self.constraint_bias],
+            "equations": [f"{sp.sstr(e.lhs)} = {sp.sstr(e.rhs)}" for e in self.equations()],
+            "latex": self.as_latex(),
+            "extras": {k: sp.sstr(v) for k, v in self.extras.items()},
+            "auxiliaries": [a.meaning for a in self.auxiliaries],
+        }
+
+    def __repr__(self) -> str:
+        return (f"EquationsOfMotion(form={self.form!r}, model={self.model.name!r}, "
+                f"unknowns={list(self.unknowns)}, multipliers={list(self.multipliers)})")
+
+
+def empty(rows: int, cols: int):
+    """A SymEngine zero matrix that also works for zero rows or columns."""
+    return se.zeros(rows, cols)

@@ -1,0 +1,89 @@
+"""The classical forms of the equations of motion, one module each.
+
+:func:`derive` is the entry point: ``derive(model, "maggi")`` returns an
+:class:`~nonideal.eom.EquationsOfMotion`.  :data:`FORMS` maps the CLI names to the classes:
+
+=============  ===========================================================================
+``lagrange1``  Lagrange I: every constraint keeps its multiplier (:mod:`.lagrange1`)
+``lagrange2``  Lagrange II: holonomic constraints eliminated by minimal coordinates, the
+               other constraints with multipliers, Routh--Voss (:mod:`.lagrange2`)
+``maggi``      Maggi: the dynamics projected on the possible velocities (:mod:`.maggi`)
+``appell``     Gibbs--Appell: derivatives of the acceleration energy (:mod:`.appell`)
+``shulgin``    Shulgin: redundant coordinates kept, dependent velocities eliminated,
+               Voronets' terms for nonholonomic constraints (:mod:`.shulgin`)
+=============  ===========================================================================
+
+The ideal constraints disappear from the reduced forms; non-ideal ones (servo, quasi-ideal,
+sliding friction) keep their multipliers in every form.
+"""
+
+from __future__ import annotations
+
+from ..dynamics import ConstraintRow, dynamics_of
+from ..eom import EquationsOfMotion
+from ...errors import FormNotApplicable, did_you_mean
+from ...modeling.model import Model
+from .appell import Appell
+from .base import Formalism
+from .lagrange1 import Lagrange1
+from .lagrange2 import Lagrange2
+from .maggi import Maggi
+from .shulgin import Shulgin
+
+__all__ = ["FORMS", "derive", "Formalism"]
+
+FORMS: dict[str, type[Formalism]] = {
+    "lagrange1": Lagrange1,
+    "lagrange2": Lagrange2,
+    "maggi": Maggi,
+    "appell": Appell,
+    "shulgin": Shulgin,
+}
+
+
+def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | None = None,
+           independent: tuple[str, ...] | None = None,
+           branch: dict[str, float] | None = None) -> EquationsOfMotion:
+    """Equations of motion of *model* in *form*.
+
+    Parameters
+    ----------
+    model : Model
+    form : str
+        One of :data:`FORMS` (``lagrange1``, ``lagrange2``, ``maggi``, ``appell``, ``shulgin``).
+    rows : list of ConstraintRow, optional
+        Constraint rows to respect (default: every constraint of the model, unilateral ones
+        taken as active).  The hybrid simulation passes the rows of the current mode.
+    independent : tuple of str, optional
+        Independent coordinates for the reduced forms (default: the model's ``independent``,
+        else a sparse, well-conditioned choice).
+    branch : dict name -> float, optional
+        Lagrange II only: the coordinates through which the roots of the holonomic
+        constraints are chosen (default: the model's initial state).  The hybrid simulation
+        passes the current state when it changes charts.
+
+    Returns
+    -------
+    EquationsOfMotion
+
+    Examples
+    --------
+    >>> from nonideal import gallery
+    >>> eom = derive(gallery.load("chaplygin-sleigh"), "maggi")
+    >>> eom.unknowns
+    ("x''", "theta''")
+    """
+    if form not in FORMS:
+        raise FormNotApplicable(
+            f"--form: unknown form '{form}'{did_you_mean(form, FORMS)}; choose one of "
+            + ", ".join(FORMS)
+        )
+    dyn = dynamics_of(model)
+    if rows is None:
+        rows = dyn.rows()
+    if independent is None:
+        independent = model.independent
+    formalism = FORMS[form]()
+    if branch is not None:
+        formalism.branch = dict(branch)
+    return formalism.derive(dyn, list(rows), independent)

@@ -1,0 +1,441 @@
+"""A safe parser for the expressions of model files.
+
+A model file is data.  Expressions are read by a small hand-written recursive-descent parser
+over a whitelist of tokens -- numbers, names, ``+ - * / ^ **``, parentheses, commas and
+primes -- and turned into SymPy objects directly.  Neither :func:`eval`, :func:`compile`,
+:func:`ast.parse` nor :func:`sympy.sympify` ever sees the user's text, so nothing in a model
+file can run code, look up attributes or import anything.  Names must be ASCII identifiers
+known to the model (parameters, coordinates and their derivatives, ``t``), ``pi``, or calls of
+a fixed set of elementary functions.
+
+Grammar (the precedence of Python/SymPy: ``-x^2 = -(x^2)``, ``2^3^2 = 2^9``)::
+
+    expr   := term (("+" | "-") term)*
+    term   := unary (("*" | "/") unary)*
+    unary  := ("+" | "-")* power
+    power  := atom (("^" | "**") unary)?
+    atom   := NUMBER | NAME | NAME "(" expr ("," expr)* ")" | "(" expr ")"
+    NAME   := [A-Za-z_][A-Za-z_0-9]* followed by up to two primes (x' and x'')
+
+Guards keep hostile input cheap: a length limit (:data:`MAX_LENGTH`), a nesting limit
+(:data:`MAX_DEPTH`, parentheses, powers and calls), a limit on exponents
+(:data:`MAX_EXPONENT`, also after SymPy combines ``(x^a)^b``), on the size of numbers
+(:data:`MAX_DIGITS`), and sums and products are built in one step (no quadratic re-flattening).
+Every error is an :class:`~nonideal.errors.ExpressionError` that names where the text comes
+from, the column, and what to write instead; all unknown names of an expression are reported
+together (``ExpressionError.unknown``).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import re
+import unicodedata
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..errors import ExpressionError, did_you_mean
+
+__all__ = ["parse_expression", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH", "MAX_DEPTH",
+           "MAX_EXPONENT", "MAX_DIGITS"]
+
+MAX_LENGTH = 50_000     # characters of one expression
+MAX_DEPTH = 100         # nested parentheses / powers / calls
+MAX_EXPONENT = 64       # |exponent| of a power with a numeric exponent
+MAX_DIGITS = 1_000      # decimal digits of a number (literal or computed)
+
+FUNCTIONS: Mapping[str, tuple[object, int]] = {
+    "sin": (sp.sin, 1), "cos": (sp.cos, 1), "tan": (sp.tan, 1), "cot": (sp.cot, 1),
+    "sec": (sp.sec, 1), "csc": (sp.csc, 1),
+    "asin": (sp.asin, 1), "acos": (sp.acos, 1), "atan": (sp.atan, 1), "atan2": (sp.atan2, 2),
+    "sinh": (sp.sinh, 1), "cosh": (sp.cosh, 1), "tanh": (sp.tanh, 1),
+    "exp": (sp.exp, 1), "log": (sp.log, 1), "ln": (sp.log, 1), "sqrt": (sp.sqrt, 1),
+    "abs": (sp.Abs, 1), "Abs": (sp.Abs, 1), "sign": (sp.sign, 1),
+    "min": (sp.Min, 2), "max": (sp.Max, 2),
+}
+CONSTANTS: Mapping[str, sp.Expr] = {"pi": sp.pi}
+
+_TOKEN = re.compile(
+    r"(?P<ws>\s+)"
+    r"|(?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)"
+    r"|(?P<name>[A-Za-z_][A-Za-z_0-9]*'*)"
+    r"|(?P<op>\*\*|[-+*/^(),])"
+)
+_FORBIDDEN_OPS = {
+    "%": "the modulo operator '%'", "@": "the operator '@'", "&": "the operator '&'",
+    "|": "the operator '|'", "~": "the operator '~'", "<": "comparisons", ">": "comparisons",
+    "=": "'=' (an expression is not an equation: write lhs - rhs)", "!": "'!'",
+    ".": "attribute access ('.')", "[": "brackets ('[')", "]": "brackets (']')",
+    "{": "braces ('{')", "}": "braces ('}')", '"': "a double quote (strings)", "'": "a lone prime",
+    ":": "':'", ";": "';'", "#": "comments ('#')", "\\": "backslashes", "$": "'$'",
+    "?": "'?'", "`": "'`'",
+}
+
+
+@dataclass(frozen=True)
+class _Token:
+    kind: str    # "number" | "name" | "op" | "end"
+    text: str
+    col: int     # 0-based column in the user's text
+
+
+class _Fail(Exception):
+    """Internal: a syntax problem at a column (turned into an ExpressionError)."""
+
+    def __init__(self, col: int, what: str):
+        super().__init__(what)
+        self.col, self.what = col, what
+
+
+def parse_expression(
+    text: str | int | float,
+    names: Mapping[str, sp.Expr],
+    where: str,
+) -> sp.Expr:
+    """Parse *text* into a SymPy expression using only the symbols in *names*.
+
+    Parameters
+    ----------
+    text : str or number
+        The expression, e.g. ``"(m + m1)/2*x'^2 - m1*l*x'*theta'*sin(theta)"``.
+    names : mapping
+        Allowed names -> SymPy objects.  Derivatives are looked up by their primed names
+        (``"x'"``, ``"x''"``); ``t`` must be included to allow time.
+    where : str
+        Where the text comes from, for messages: ``"constraint 'rod': expr"``.
+
+    Returns
+    -------
+    sympy.Expr
+
+    Raises
+    ------
+    ExpressionError
+        With the column of a syntax error, every unknown name with a "did you mean", or the
+        construct that is not allowed.  ``exc.unknown`` lists the unknown names.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x, xd = sp.Symbol('x'), sp.Symbol("x'")
+    >>> parse_expression("x'^2/2 + sin(x)", {"x": x, "x'": xd}, "energy.kinetic")
+    x'**2/2 + sin(x)
+    """
+    if isinstance(text, bool):
+        raise ExpressionError(f"{where}: expected an expression, got a boolean ({text}); "
+                              "write a number or a quoted expression")
+    if isinstance(text, numbers.Integral):
+        text = int(text)
+        if abs(text) >= 10**MAX_DIGITS:
+            raise ExpressionError(f"{where}: number with more than {MAX_DIGITS} digits")
+        return sp.Integer(text)
+    if isinstance(text, numbers.Real):
+        text = float(text)  # also NumPy scalars (whose repr is "np.float64(...)")
+        if not math.isfinite(text):
+            raise ExpressionError(f"{where}: {text!r} is not a finite number")
+        return sp.Rational(repr(text))
+    if not isinstance(text, str):
+        raise ExpressionError(
+            f"{where}: expected an expression string, got {type(text).__name__} "
+            f"({_short(repr(text))}); write it as a quoted string, e.g. \"m*g*y\""
+        )
+    if len(text) > MAX_LENGTH:
+        raise ExpressionError(
+            f"{where}: expression of {len(text)} characters is longer than the limit of "
+            f"{MAX_LENGTH}; split it with parameters or use [[bodies]] to assemble energies"
+        )
+    if not text.strip():
+        raise ExpressionError(f"{where}: empty expression (write \"0\" for zero)")
+    try:
+        parser = _Parser(text, names, where)
+        expr = parser.parse()
+    except _Fail as exc:
+        raise ExpressionError(_malformed(where, text, exc.col, exc.what)) from None
+    except RecursionError:  # pragma: no cover - MAX_DEPTH keeps far below the limit
+        raise ExpressionError(f"{where}: expression nested too deeply") from None
+    if parser.unknown:
+        raise parser.unknown_error()
+    return expr
+
+
+def _short(s: str, width: int = 60) -> str:
+    return s if len(s) <= width else s[: width - 3] + "..."
+
+
+def _malformed(where: str, text: str, col: int, what: str) -> str:
+    """``where: malformed expression at column c: what`` plus the text with a caret."""
+    shown = "".join(" " if ch in "\t\r\n\v\f" else ch for ch in text)
+    lo = 0
+    if len(shown) > 100:
+        lo = max(0, min(col - 50, len(shown) - 100))
+        shown = ("..." if lo else "") + shown[lo:lo + 100] + ("..." if lo + 100 < len(text) else "")
+        caret = col - lo + (3 if lo else 0)
+    else:
+        caret = col
+    return (f"{where}: malformed expression at column {col + 1}: {what}\n"
+            f"    {shown}\n    {' ' * caret}^")
+
+
+def _tokenize(text: str) -> list[_Token]:
+    tokens: list[_Token] = []
+    pos, n = 0, len(text)
+    while pos < n:
+        m = _TOKEN.match(text, pos)
+        if m is None:
+            ch = text[pos]
+            if ord(ch) > 127:
+                try:
+                    uname = unicodedata.name(ch)
+                except ValueError:
+                    uname = "unnamed"
+                raise _Fail(pos, f"non-ASCII character {ch!r} (U+{ord(ch):04X} {uname}); "
+                                 "names are ASCII letters, digits and _ (write theta, not a "
+                                 "Greek letter)")
+            what = _FORBIDDEN_OPS.get(ch, f"the character {ch!r}")
+            if ch == "'":
+                raise _Fail(pos, "a prime (') must directly follow a coordinate name, as in "
+                                 "x' or x'' (quoted strings are not allowed)")
+            raise _Fail(pos, f"{what} is not allowed; expressions use numbers, names, "
+                             "+ - * / ^ and parentheses")
+        kind = m.lastgroup
+        if kind != "ws":
+            tokens.append(_Token(kind, m.group(), pos))
+        pos = m.end()
+    tokens.append(_Token("end", "", n))
+    return tokens
+
+
+class _Parser:
+    def __init__(self, text: str, names: Mapping[str, sp.Expr], where: str):
+        self.text, self.names, self.where = text, names, where
+        self.tokens = _tokenize(text)
+        self.i = 0
+        self.depth = 0
+        self.unknown: dict[str, int] = {}          # unknown name -> first column
+        self.placeholders: dict[str, sp.Dummy] = {}
+
+    # ---------------------------------------------------------------- token helpers
+    def peek(self) -> _Token:
+        return self.tokens[self.i]
+
+    def next(self) -> _Token:
+        tok = self.tokens[self.i]
+        self.i += 1
+        return tok
+
+    def enter(self, col: int) -> None:
+        self.depth += 1
+        if self.depth > MAX_DEPTH:
+            raise _Fail(col, f"nested more than {MAX_DEPTH} levels deep (parentheses, "
+                             "powers or calls); simplify the expression")
+
+    def expect_operand(self, tok: _Token) -> _Fail:
+        if tok.kind == "end":
+            return _Fail(tok.col, "unexpected end of the expression (an operand is missing)")
+        return _Fail(tok.col, f"expected a number, a name or '(' but found '{tok.text}'")
+
+    # ---------------------------------------------------------------- grammar
+    def parse(self) -> sp.Expr:
+        expr = self.expr()
+        tok = self.peek()
+        if tok.kind != "end":
+            if tok.text == ")":
+                raise _Fail(tok.col, "unmatched ')'")
+            if tok.text == ",":
+                raise _Fail(tok.col, "',' outside a function call (an expression is one value)")
+            prev = self.tokens[self.i - 1]
+            raise _Fail(tok.col, f"missing operator between '{prev.text}' and '{tok.text}' "
+                                 f"(write {prev.text}*{tok.text} for a product)")
+        self.check_value(expr)
+        return expr
+
+    def expr(self) -> sp.Expr:
+        terms = [self.term()]
+        while self.peek().text in ("+", "-"):
+            op = self.next().text
+            term = self.term()
+            terms.append(term if op == "+" else -term)
+        return terms[0] if len(terms) == 1 else sp.Add(*terms)
+
+    def term(self) -> sp.Expr:
+        factors = [self.unary()]
+        while self.peek().text in ("*", "/"):
+            op = self.next()
+            col = self.peek().col
+            factor = self.unary()
+            if op.text == "/":
+                if factor == 0:
+                    raise _Fail(col, "division by zero")
+                factor = sp.Pow(factor, -1)
+            factors.append(factor)
+        return factors[0] if len(factors) == 1 else sp.Mul(*factors)
+
+    def unary(self) -> sp.Expr:
+        negative = False
+        while self.peek().text in ("+", "-"):
+            if self.next().text == "-":
+                negative = not negative
+        value = self.power()
+        return -value if negative else value
+
+    def power(self) -> sp.Expr:
+        base = self.atom()
+        if self.peek().text in ("^", "**"):
+            op = self.next()
+            self.enter(op.col)
+            exponent = self.unary()
+            self.depth -= 1
+            return self.pow(base, exponent, op.col)
+        return base
+
+    def atom(self) -> sp.Expr:
+        tok = self.next()
+        if tok.kind == "number":
+            return self.number(tok)
+        if tok.kind == "name":
+            if self.peek().text == "(":
+                return self.call(tok)
+            return self.name(tok)
+        if tok.text == "(":
+            self.enter(tok.col)
+            if self.peek().text == ")":
+                raise _Fail(self.peek().col, "empty parentheses")
+            value = self.expr()
+            close = self.next()
+            if close.text != ")":
+                if close.kind == "end":
+                    raise _Fail(tok.col, "'(' is never closed")
+                raise _Fail(close.col, f"expected ')' but found '{close.text}'")
+            self.depth -= 1
+            return value
+        raise self.expect_operand(tok)
+
+    # ---------------------------------------------------------------- leaves
+    def number(self, tok: _Token) -> sp.Expr:
+        s = tok.text
+        mantissa, _, exp = s.lower().partition("e")
+        if len(mantissa.replace(".", "").lstrip("0")) > MAX_DIGITS:
+            raise _Fail(tok.col, f"number with more than {MAX_DIGITS} digits")
+        if exp and abs(int(exp)) > 300:
+            raise _Fail(tok.col, f"number {s} is out of range (|exponent| > 300)")
+        nxt = self.peek()
+        if nxt.kind == "name" and nxt.col == tok.col + len(s):
+            raise _Fail(nxt.col, f"missing operator between '{s}' and '{nxt.text}' "
+                                 f"(write {s}*{nxt.text} for a product)")
+        if "." in s or exp:
+            return sp.Rational(s)
+        return sp.Integer(int(s))
+
+    def name(self, tok: _Token) -> sp.Expr:
+        name = tok.text
+        base, primes = name.rstrip("'"), len(name) - len(name.rstrip("'"))
+        if primes > 2:
+            raise _Fail(tok.col, f"{name}: only first (x') and second (x'') derivatives can be "
+                                 "written")
+        if name in self.names:
+            return self.names[name]
+        if name in CONSTANTS:
+            return CONSTANTS[name]
+        if name in FUNCTIONS:
+            raise _Fail(tok.col, f"function '{name}' used without arguments; write {name}(...)")
+        if primes:
+            if base == "t":
+                raise _Fail(tok.col, f"{name}: 't' is time; only coordinates have derivatives")
+            if base in self.names:
+                if base + "'" not in self.names:
+                    raise _Fail(tok.col, f"{name}: derivatives are not allowed here (this "
+                                         "expression may depend on coordinates, parameters "
+                                         "and time only; and only coordinates have "
+                                         "derivatives)")
+                raise _Fail(tok.col, f"{name}: accelerations are not allowed here")
+            if base in CONSTANTS:
+                raise _Fail(tok.col, f"{name}: '{base}' is a constant; only coordinates have "
+                                     "derivatives")
+        self.unknown.setdefault(name, tok.col)
+        return self.placeholders.setdefault(name, sp.Dummy(name))
+
+    def call(self, tok: _Token) -> sp.Expr:
+        fname = tok.text
+        if fname not in FUNCTIONS:
+            if fname in self.names or fname in CONSTANTS:
+                raise _Fail(tok.col, f"'{fname}' is not a function; write {fname}*(...) for a "
+                                     "product")
+            raise _Fail(tok.col, f"unknown function '{fname}'{did_you_mean(fname, FUNCTIONS)}; "
+                                 "allowed: " + ", ".join(sorted(FUNCTIONS)))
+        func, arity = FUNCTIONS[fname]
+        open_ = self.next()
+        self.enter(open_.col)
+        args = []
+        if self.peek().text == ")":
+            raise _Fail(self.peek().col, f"{fname} takes {arity} argument(s), got 0")
+        while True:
+            args.append(self.expr())
+            sep = self.next()
+            if sep.text == ",":
+                continue
+            if sep.text == ")":
+                break
+            if sep.kind == "end":
+                raise _Fail(open_.col, "'(' is never closed")
+            raise _Fail(sep.col, f"expected ',' or ')' but found '{sep.text}'")
+        self.depth -= 1
+        if len(args) != arity:
+            raise _Fail(tok.col, f"{fname} takes {arity} argument(s), got {len(args)}")
+        return func(*args)
+
+    # ---------------------------------------------------------------- checks
+    def pow(self, base: sp.Expr, exponent: sp.Expr, col: int) -> sp.Expr:
+        if exponent.is_number:
+            try:
+                e = complex(exponent)
+            except (TypeError, ValueError):
+                raise _Fail(col, "the exponent is not a number") from None
+            if not (math.isfinite(e.real) and math.isfinite(e.imag)):
+                raise _Fail(col, "the exponent is not finite")
+            if abs(e) > MAX_EXPONENT:
+                raise _Fail(col, f"exponent {_short(str(exponent), 30)} is larger than "
+                                 f"{MAX_EXPONENT} in magnitude")
+            if base.is_Rational and exponent.is_Rational:
+                bits = max(abs(base.p).bit_length(), abs(base.q).bit_length())
+                if bits * abs(e) > MAX_DIGITS * 3.33:
+                    raise _Fail(col, f"the number would have more than {MAX_DIGITS} digits")
+            if base == 0 and e.real < 0:
+                raise _Fail(col, "division by zero (0 to a negative power)")
+        result = sp.Pow(base, exponent)
+        if isinstance(result, sp.Pow) and result.exp.is_number:
+            try:
+                big = abs(complex(result.exp)) > MAX_EXPONENT
+            except (TypeError, ValueError):
+                big = True
+            if big:
+                raise _Fail(col, f"exponent larger than {MAX_EXPONENT} in magnitude after "
+                                 "combining powers")
+        return result
+
+    def check_value(self, expr: sp.Expr) -> None:
+        if expr.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+            raise _Fail(0, "the expression is undefined or infinite (a division by zero, "
+                           "log(0) or similar)")
+        if expr.has(sp.I):
+            raise _Fail(0, "the expression is complex (e.g. sqrt of a negative number); "
+                           "mechanical quantities are real")
+
+    def unknown_error(self) -> ExpressionError:
+        candidates = [n for n in self.names if not n.endswith("'")] + list(CONSTANTS)
+        candidates += [n for n in self.names if n.endswith("'")]
+        coordinates = [n[:-1] for n in self.names if n.endswith("'") and not n.endswith("''")]
+        problems = []
+        for name in self.unknown:
+            base = name.rstrip("'")
+            if base != name:
+                problems.append(
+                    f"{self.where}: unknown symbol {name}: '{base}' is not a coordinate"
+                    f"{did_you_mean(base, coordinates)}; only coordinates have derivatives"
+                    + (f" ({', '.join(coordinates)})" if coordinates else ""))
+            else:
+                problems.append(f"{self.where}: unknown symbol '{name}'"
+                                f"{did_you_mean(name, candidates)}")
+        return ExpressionError(problems, unknown=[(name, self.where) for name in self.unknown])

@@ -1,0 +1,185 @@
+"""The user's declaration of a mechanical system: :class:`Model` (immutable once built).
+
+A model holds coordinates, parameters, the kinetic energy (an expression, bodies, or both),
+the potential energy, generalized forces and loads, constraints and contacts, an initial state
+and simulation settings.  Expressions may be given as strings (parsed by the safe parser of
+:mod:`nonideal.expressions`) or as SymPy expressions -- including
+``sympy.physics.mechanics.dynamicsymbols`` -- and are normalized to plain SymPy symbols named
+``x``, ``x'``, ``x''`` (see :mod:`nonideal.symbols`).
+
+Everything that can be checked without mechanics is checked here, and every problem is
+reported at once (:class:`~nonideal.errors.ModelError`).
+
+Examples
+--------
+>>> from nonideal import Model, Constraint
+>>> m = Model(
+...     name="particle on a rotating line",
+...     coordinates=["x", "y"],
+...     parameters={"m": 1.0, "w": 2.0},
+...     kinetic="m/2*(x'^2 + y'^2)",
+...     constraints=[Constraint.holonomic("line", "y*cos(w*t) - x*sin(w*t)")],
+...     initial={"x": 1.0, "y": 0.0, "x'": 0.0},
+... )
+>>> m.n_q, [c.kind for c in m.constraints]
+(2, ['holonomic'])
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import sympy as sp
+
+from .contacts import Contact
+from ..errors import ModelError, did_you_mean
+from .symbols import coordinate_symbols, t
+
+from .declarations import RESERVED_NAMES, Constraint, Parameter, SimulationSettings
+from .normalize import Normalizer
+from .values import parameter_values, resolve_parameters, to_expr
+
+__all__ = ["Parameter", "Constraint", "SimulationSettings", "Model", "RESERVED_NAMES",
+           "resolve_parameters"]
+
+
+@dataclass(frozen=True)
+class Model:
+    """A mechanical system as the user declared it.
+
+    Parameters
+    ----------
+    name : str
+    coordinates : sequence of str
+        Names of the generalized coordinates (functions of time).
+    parameters : mapping name -> number or :class:`Parameter`
+    kinetic : expression, optional
+        Kinetic energy in the coordinates, their velocities (``x'``) and time.
+    potential : expression, optional
+    forces : mapping coordinate -> expression, optional
+        Extra (non-potential) generalized forces.
+    bodies : sequence of Particle, PlanarBody, RigidBody
+        Added to ``kinetic``.
+    loads : sequence of Force, Torque
+        Added to ``forces`` by virtual work.
+    gravity : sequence of expressions, optional
+        Uniform gravity vector; adds ``-sum m g . r`` over the bodies to the potential.
+    constraints : sequence of Constraint
+    contacts : sequence of Contact
+    initial : mapping
+        Coordinate and velocity (``"x'"``) values at ``t0``; numbers or expressions in the
+        parameters.  Missing dependent values are completed from the constraints.
+    t0 : float
+    independent : sequence of str, optional
+        Coordinates whose velocities are kept as independent by the reduced forms (Maggi,
+        Appell, Shulgin) and coordinates kept by Lagrange II.
+    simulation : SimulationSettings or mapping
+    source : str
+        Where the model came from (a file name), used in error messages.
+    description : str
+    """
+
+    name: str
+    coordinates: tuple[str, ...]
+    parameters: Mapping[str, Parameter] = field(default_factory=dict)
+    kinetic: Any = 0
+    potential: Any = 0
+    forces: Any = field(default_factory=dict)
+    bodies: tuple[Any, ...] = ()
+    loads: tuple[Any, ...] = ()
+    gravity: tuple[Any, ...] | None = None
+    constraints: tuple[Constraint, ...] = ()
+    contacts: tuple[Contact, ...] = ()
+    initial: Mapping[str, Any] = field(default_factory=dict)
+    t0: float = 0.0
+    independent: tuple[str, ...] | None = None
+    simulation: SimulationSettings = field(default_factory=SimulationSettings)
+    source: str = "<api>"
+    description: str = ""
+
+    # ------------------------------------------------------------------ construction
+    def __post_init__(self):
+        problems: list[str] = []
+        Normalizer(self, problems).run()
+        if problems:
+            raise ModelError(problems, None if self.source == "<api>" else self.source)
+
+    def replace(self, **changes) -> "Model":
+        """A new model with some fields changed (the model itself never changes)."""
+        return replace(self, **changes)
+
+    # ------------------------------------------------------------------ symbols
+    @property
+    def n_q(self) -> int:
+        return len(self.coordinates)
+
+    @property
+    def q(self) -> tuple[sp.Symbol, ...]:
+        return self._symbols()[0]
+
+    @property
+    def qd(self) -> tuple[sp.Symbol, ...]:
+        return self._symbols()[1]
+
+    @property
+    def qdd(self) -> tuple[sp.Symbol, ...]:
+        return self._symbols()[2]
+
+    def _symbols(self):
+        """``(q, qd, qdd)``, made once per model (the normalization asks for them often)."""
+        hit = self.__dict__.get("_coordinate_symbols")
+        if hit is None or hit[0] != self.coordinates:
+            hit = (self.coordinates, coordinate_symbols(self.coordinates))
+            self.__dict__["_coordinate_symbols"] = hit
+        return hit[1]
+
+    @property
+    def parameter_symbols(self) -> tuple[sp.Symbol, ...]:
+        return tuple(sp.Symbol(n) for n in self.parameters)
+
+    @property
+    def parameter_values(self) -> dict[str, float]:
+        return {n: p.value for n, p in self.parameters.items()}
+
+    def constraint(self, name: str) -> Constraint:
+        for c in self.constraints:
+            if c.name == name:
+                return c
+        raise ModelError(
+            f"no constraint named '{name}'"
+            + did_you_mean(name, [c.name for c in self.constraints])
+        )
+
+    @property
+    def velocity_names(self) -> tuple[str, ...]:
+        return tuple(n + "'" for n in self.coordinates)
+
+    # ------------------------------------------------------------------ parsing helpers
+    def names(self, order: int = 1, time: bool = True) -> dict[str, sp.Expr]:
+        """Names usable in an expression: parameters, coordinates, derivatives up to *order*."""
+        q, qd, qdd = self._symbols()
+        out: dict[str, sp.Expr] = {n: sp.Symbol(n) for n in self.parameters}
+        out.update({s.name: s for s in q})
+        if order >= 1:
+            out.update({s.name: s for s in qd})
+        if order >= 2:
+            out.update({s.name: s for s in qdd})
+        if time:
+            out["t"] = t
+        return out
+
+    def parse(self, text: Any, where: str, order: int = 1) -> sp.Expr:
+        """Parse a string (safely) or normalize a SymPy expression of this model."""
+        return to_expr(text, self.names(order), where, self.coordinates)
+
+    def numeric_initial(self) -> dict[str, float]:
+        """The initial values given, evaluated with the parameter values (computed once: the
+        model is immutable)."""
+        cached = self.__dict__.get("_numeric_initial")
+        if cached is None:
+            values = parameter_values(self.parameters)
+            cached = {key: float(sp.sympify(expr).xreplace(values)) for key, expr in self.initial.items()}
+            self.__dict__["_numeric_initial"] = cached
+        return dict(cached)

@@ -1,0 +1,616 @@
+"""Model files (TOML) -> :class:`~nonideal.model.Model`.
+
+The format is the one of the SPEC (``format = 1``), extended -- never broken -- with:
+
+* ``[[bodies]]`` (``type = "particle" | "planar" | "rigid"``) and ``[gravity] vector`` to
+  assemble the kinetic and potential energy from geometry;
+* ``[[loads]]`` (``type = "force" | "torque"``) turned into generalized forces;
+* ``restitution`` for unilateral constraints (impact law; 0 = plastic, the default);
+* contacts: ``friction = "coulomb" | "regularized" | "linearized"``, ``eps``,
+  ``restitution``, ``bilateral``;
+* ``[forms] independent`` -- independent coordinates for the reduced forms (for
+  ``lagrange2`` those of the first chart, see :mod:`nonideal.charts`);
+* ``[parameters]`` values may be tables ``{value, unit, description}``, and expressions in the
+  other parameters (derived parameters, e.g. ``w = "sqrt(g/l)"``), evaluated in dependency
+  order when the file is read;
+* numeric settings (``restitution``, ``eps``, ``[simulation]`` times and tolerances) may be
+  expressions in the parameters too (e.g. ``t_end = "4*pi/w"``).
+
+Every key is checked; unknown keys are rejected with a suggestion, and every problem in the
+file is reported at once with the file name.  Expressions go through the safe parser only.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+import unicodedata
+from pathlib import Path
+from collections.abc import Mapping
+from typing import Any
+
+import sympy as sp
+
+from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
+from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
+from ..errors import ModelError, did_you_mean
+from .expressions import parse_expression
+from .model import Constraint, Model, resolve_parameters
+
+__all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
+
+FORMAT_VERSION = 1
+
+TOP_KEYS = {"model", "parameters", "coordinates", "energy", "forces", "bodies", "gravity", "loads",
+            "constraints", "contacts", "initial", "simulation", "forms"}
+SECTION_KEYS = {
+    "model": {"name", "format", "description", "source"},
+    "coordinates": {"q"},
+    "energy": {"kinetic", "potential"},
+    "gravity": {"vector"},
+    "simulation": {"t_end", "rtol", "atol", "method", "max_step", "t0"},
+    "forms": {"independent"},
+}
+CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral", "restitution",
+                   "description"}
+CONTACT_KEYS = {"name", "gap", "slip", "mu", "mu_static", "friction", "eps", "restitution",
+                "bilateral", "description"}
+BODY_KEYS = {
+    "particle": {"type", "name", "mass", "position"},
+    "planar": {"type", "name", "mass", "inertia", "position", "angle"},
+    "rigid": {"type", "name", "mass", "inertia", "position", "rotation"},
+}
+LOAD_KEYS = {
+    "force": {"type", "name", "point", "force"},
+    "torque": {"type", "name", "torque", "angle", "body"},
+}
+FRICTION_LAWS = ("coulomb", "regularized", "linearized")
+
+
+def load_model(path: str | Path, parameters: Mapping[str, Any] | None = None) -> Model:
+    """Read and validate a model file.
+
+    Parameters
+    ----------
+    path : str or Path
+    parameters : mapping name -> number or str, optional
+        Values that override the file's ``[parameters]`` (the command line's ``--set``): a
+        number, or an expression in the other parameters.  Every name must be a parameter of
+        the file.
+
+    Examples
+    --------
+    >>> from nonideal import gallery
+    >>> model = load_model(gallery.model_path("painleve-rod"), parameters={"mu": 2.0})
+    >>> model.parameter_values["mu"]
+    2.0
+
+    Raises
+    ------
+    ModelError
+        With the file name, the key and the fix, for every problem found.
+    """
+    path = Path(path)
+    source = str(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ModelError(f"model file not found: {source}; check the path (relative paths are "
+                         f"taken from the current directory, {Path.cwd()})") from None
+    except IsADirectoryError:
+        raise ModelError("is a directory, not a model file; give the path of a .toml file",
+                         source) from None
+    except UnicodeDecodeError as exc:
+        raise ModelError(f"cannot read the model file: not UTF-8 text ({exc.reason} at byte "
+                         f"{exc.start}); save it as UTF-8", source) from None
+    except OSError as exc:
+        raise ModelError(f"cannot read the model file: {exc.strerror or exc}", source) from None
+    text = text.removeprefix("\ufeff")  # a byte-order mark some editors write
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError(_toml_problem(str(exc), text), source) from None
+    if parameters:
+        data = override_parameters(data, parameters, source)
+    return model_from_dict(data, source, default_name=path.stem)
+
+
+def override_parameters(data: dict[str, Any], values: Mapping[str, Any], source: str) -> dict[str, Any]:
+    """*data* (a model file's tables) with ``[parameters]`` values replaced by *values*.
+
+    A value is a number or a string (a number, or an expression in the other parameters,
+    checked by the safe parser when the model is built).  Unknown names are reported together,
+    each with the closest parameter name.
+    """
+    table = data.get("parameters", {})
+    if not isinstance(table, dict):
+        return data     # reported by model_from_dict
+    problems = []
+    new = dict(table)
+    for name, value in values.items():
+        if name not in table:
+            known = ", ".join(table) if table else "none"
+            problems.append(f"--set {name}: not a parameter of the model{did_you_mean(name, list(table))} "
+                            f"(its [parameters]: {known}); --set overrides a parameter the file "
+                            "declares")
+            continue
+        if isinstance(value, str):
+            text = value.strip()
+            try:
+                value = float(text)
+            except ValueError:
+                value = text
+        if isinstance(table[name], dict):
+            new[name] = {**table[name], "value": value}
+        else:
+            new[name] = value
+    if problems:
+        raise ModelError(problems, source)
+    return {**data, "parameters": new}
+
+
+def _toml_problem(message: str, text: str) -> str:
+    """The TOML parser's message plus the offending line with a caret."""
+    out = f"not valid TOML: {message}"
+    m = re.search(r"at line (\d+), column (\d+)", message)
+    if m:
+        line_no, col = int(m.group(1)), int(m.group(2))
+        lines = text.splitlines()
+        if 1 <= line_no <= len(lines):
+            line = lines[line_no - 1].replace("\t", " ")
+            out += f"\n    line {line_no}: {line}\n    {' ' * (len(str(line_no)) + 7 + col - 1)}^"
+    return out + ("\n    (TOML: strings in double quotes, a key with a prime in quotes as "
+                  "\"x'\" = 1.0, tables as [name], arrays of tables as [[constraints]])")
+
+
+def _control_characters(value: Any, where: str = "") -> list[str]:
+    """Strings with control characters (terminal escape sequences, a bell, a carriage
+    return...): printed back, they would act on the user's terminal.  A description may span
+    lines (newlines and tabs are allowed there)."""
+    if isinstance(value, dict):
+        return [p for k, v in value.items()
+                for p in _control_characters(v, f"{where} {k}" if where.endswith("]") else
+                                             f"{where}.{k}" if where else f"[{k}]")]
+    if isinstance(value, list):
+        return [p for i, v in enumerate(value) for p in _control_characters(v, f"{where}[{i}]")]
+    if not isinstance(value, str):
+        return []
+    allowed = "\n\t" if re.split(r"[ .]", where)[-1] in ("description", "source") else ""
+    bad = sorted({c for c in value if unicodedata.category(c) == "Cc" and c not in allowed})
+    if not bad:
+        return []
+    return [f"{where}: contains the control character(s) {', '.join(repr(c) for c in bad)}; "
+            "remove them (only plain text is allowed in a model file's strings"
+            + (", and newlines and tabs in a description)" if not allowed else ")")]
+
+
+def _unknown(keys, allowed, where: str) -> list[str]:
+    out = []
+    for k in keys:
+        if k not in allowed:
+            out.append(f"{where}: unknown key '{k}'{did_you_mean(str(k), allowed)}; allowed: "
+                       + ", ".join(sorted(allowed)))
+    return out
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _is_expr(value: Any) -> bool:
+    return isinstance(value, str) or _is_number(value)
+
+
+class _Checker:
+    """Type checks of model-file values; every problem is appended to ``problems``."""
+
+    def __init__(self, problems: list[str]):
+        self.problems = problems
+        self.parameters: dict[str, float] = {}   # numeric values, for numbers given as expressions
+        self.parameter_names: set[str] = set()
+
+    def boolean(self, table: dict, key: str, where: str, default: bool = False) -> bool:
+        value = table.get(key, default)
+        if not isinstance(value, bool):
+            self.problems.append(f"{where}: {key} must be true or false (got {value!r})")
+            return default
+        return value
+
+    def number(self, table: dict, key: str, where: str, default, low=None, high=None,
+               positive: bool = False):
+        if key not in table:
+            return default
+        value = table[key]
+        if isinstance(value, str):   # an expression in the parameters, evaluated now
+            try:
+                expr = parse_expression(value, {n: sp.Symbol(n) for n in self.parameter_names},
+                                        f"{where}: {key}")
+                if any(s.name not in self.parameters for s in expr.free_symbols):
+                    return default   # a parameter without a value: reported with the parameters
+                value = float(expr.xreplace({sp.Symbol(n): sp.Float(v) for n, v in self.parameters.items()}))
+            except ModelError as exc:
+                self.problems += exc.problems
+                return default
+            except TypeError:   # not a real number
+                value = math.nan
+        ok = _is_number(value) and math.isfinite(value)
+        if ok and positive and not value > 0:
+            ok = False
+        if ok and low is not None and value < low or ok and high is not None and value > high:
+            ok = False
+        if not ok:
+            rng = (f" in [{low}, {high}]" if low is not None and high is not None
+                   else " > 0" if positive else "")
+            self.problems.append(f"{where}: {key} must be a number{rng}, or an expression in the "
+                                 f"parameters (got {table[key]!r})")
+            return default
+        return value
+
+    def expr(self, table: dict, key: str, where: str) -> bool:
+        value = table.get(key)
+        if not _is_expr(value):
+            self.problems.append(f"{where}: {key} must be an expression in quotes or a number "
+                                 f"(got {_describe(value)})")
+            return False
+        return True
+
+    def expr_list(self, table: dict, key: str, where: str, sizes=None, allow_scalar=False) -> bool:
+        value = table.get(key)
+        if allow_scalar and _is_expr(value):
+            value = [value]
+        if not isinstance(value, list) or not all(_is_expr(v) for v in value):
+            self.problems.append(f"{where}: {key} must be a list of expressions, e.g. "
+                                 f"{key} = [\"0\", \"1\"] (got {_describe(value)})")
+            return False
+        if sizes and len(value) not in sizes:
+            self.problems.append(f"{where}: {key} must have {' or '.join(map(str, sizes))} "
+                                 f"entries (got {len(value)})")
+            return False
+        return True
+
+    def matrix(self, table: dict, key: str, where: str, size=None) -> bool:
+        value = table.get(key)
+        if not (isinstance(value, list) and all(isinstance(r, list) and all(_is_expr(v) for v in r)
+                                                for r in value)):
+            self.problems.append(f"{where}: {key} must be a list of rows (lists of expressions), "
+                                 f"e.g. [[\"1\", \"0\"], [\"0\", \"1\"]] (got {_describe(value)})")
+            return False
+        if size is not None and (len(value) != size or any(len(r) != size for r in value)):
+            self.problems.append(f"{where}: {key} must be {size}x{size} (one row and column per "
+                                 "coordinate)")
+            return False
+        return True
+
+    def name(self, table: dict, where: str) -> bool:
+        value = table.get("name")
+        if not isinstance(value, str):
+            self.problems.append(f"{where}: name must be a string in quotes (got {_describe(value)})")
+            return False
+        return True
+
+
+def _describe(value: Any) -> str:
+    if value is None:
+        return "nothing"
+    kind = {bool: "a boolean", int: "a number", float: "a number", str: "a string",
+            list: "a list", dict: "a table"}.get(type(value), type(value).__name__)
+    return f"{kind} {_short_repr(value)}"
+
+
+def _short_repr(value: Any) -> str:
+    r = repr(value)
+    return r if len(r) <= 50 else r[:47] + "..."
+
+
+def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: str = "model") -> Model:
+    """Build a :class:`Model` from the parsed TOML structure (see :func:`load_model`).
+
+    Every problem is collected: those of the file's structure (unknown keys, wrong types) and,
+    whenever the coordinates are usable, those the :class:`Model` finds in the expressions
+    (unknown symbols, malformed expressions, missing parameters), in one :class:`ModelError`.
+    """
+    problems: list[str] = []
+    check = _Checker(problems)
+    problems += _unknown(data, TOP_KEYS, "top level")
+    problems += _control_characters(data)
+    for key in ("constraints", "contacts", "bodies", "loads"):
+        items = data.get(key)
+        for i, item in enumerate(items if isinstance(items, list) else []):
+            if isinstance(item, dict) and "description" in item and not isinstance(item["description"], str):
+                label = item.get("name") if isinstance(item.get("name"), str) else f"#{i + 1}"
+                problems.append(f"[[{key}]] '{label}': description must be a string "
+                                f"(got {_describe(item['description'])})")
+    for section, allowed in SECTION_KEYS.items():
+        if section in data:
+            if not isinstance(data[section], dict):
+                problems.append(f"[{section}]: must be a table ([{section}] followed by "
+                                "key = value lines)")
+            else:
+                problems += _unknown(data[section], allowed, f"[{section}]")
+
+    def table(key: str) -> dict:
+        value = data.get(key, {})
+        return value if isinstance(value, dict) else {}
+
+    header = table("model")
+    fmt = header.get("format", FORMAT_VERSION)
+    if not isinstance(fmt, int) or isinstance(fmt, bool):
+        problems.append(f"[model] format: must be an integer, the model file format version "
+                        f"(got {fmt!r}); this version of nonideal reads format = {FORMAT_VERSION}")
+    elif fmt != FORMAT_VERSION:
+        problems.append(
+            f"[model] format: this version of nonideal reads model files of format "
+            f"{FORMAT_VERSION}, the file declares format = {fmt!r}; "
+            + ("it was written for a newer nonideal: upgrade nonideal"
+               if fmt > FORMAT_VERSION else f"convert the file to format {FORMAT_VERSION}")
+        )
+    name = header.get("name", default_name)
+    if not isinstance(name, str):
+        problems.append(f"[model] name: must be a string (got {_describe(name)})")
+        name = default_name
+    description = header.get("description", "")
+    if not isinstance(description, str):
+        problems.append(f"[model] description: must be a string (got {_describe(description)})")
+        description = ""
+
+    coords = table("coordinates").get("q")
+    coords_ok = False
+    if "coordinates" not in data or coords is None:
+        problems.append('[coordinates] q: missing; list the generalized coordinates, e.g. '
+                        '[coordinates] q = ["x", "theta"]')
+    elif not isinstance(coords, list) or not all(isinstance(c, str) for c in coords):
+        problems.append(f"[coordinates] q: must be a list of names in quotes, e.g. "
+                        f"q = [\"x\", \"theta\"] (got {_describe(coords)})")
+    else:
+        coords_ok = True
+    n_q = len(coords) if coords_ok else None
+
+    params = data.get("parameters", {})
+    if not isinstance(params, dict):
+        problems.append("[parameters]: must be a table of name = value")
+        params = {}
+    params = dict(params)
+    for pname, value in list(params.items()):
+        if isinstance(value, dict):
+            problems += _unknown(value, {"value", "unit", "description"}, f"[parameters] {pname}")
+            if "value" not in value:
+                problems.append(f"[parameters] {pname}: missing 'value', e.g. "
+                                f"{pname} = {{value = 1.0, unit = \"kg\"}}")
+                params[pname] = 0.0   # placeholder: the error above is raised in any case
+    check.parameter_names = set(params)
+    check.parameters = resolve_parameters(
+        {n: (v.get("value") if isinstance(v, dict) else v) for n, v in params.items()})[0]
+    energy = table("energy")
+    for key in ("kinetic", "potential"):
+        if key in energy:
+            check.expr(energy, key, f"[energy] {key}")
+    energy = {k: v for k, v in energy.items() if k in ("kinetic", "potential") and _is_expr(v)}
+    forces = data.get("forces", {})
+    if not isinstance(forces, dict):
+        problems.append("[forces]: must be a table coordinate = expression")
+        forces = {}
+    forces = {k: v for k, v in forces.items() if check.expr(forces, k, f"[forces] {k}")}
+
+    constraints = []
+    for k, c in enumerate(_array_of_tables(data, "constraints", problems)):
+        where = f"[[constraints]] #{k + 1}" + (f" '{c.get('name')}'" if "name" in c else "")
+        problems += _unknown(c, CONSTRAINT_KEYS, where)
+        missing = [key for key in ("name", "expr") if key not in c]
+        if missing:
+            problems.append(f"{where}: missing {' and '.join(missing)} (a constraint needs "
+                            "name = \"...\" and expr = \"...\", meaning expr = 0)")
+            continue
+        ok = check.name(c, where) & check.expr(c, "expr", where)
+        kind = c.get("type", "auto")
+        if not isinstance(kind, str):
+            problems.append(f"{where}: type must be \"holonomic\", \"nonholonomic\" or "
+                            f"\"servo\" (got {_describe(kind)})")
+            ok = False
+        unilateral = check.boolean(c, "unilateral", where)
+        restitution = check.number(c, "restitution", where, 0.0, 0.0, 1.0)
+        if "reaction" in c:
+            ok &= check.expr_list(c, "reaction", where, (n_q,) if n_q else None)
+        if "transform" in c:
+            ok &= check.matrix(c, "transform", where, n_q)
+        if not ok:
+            continue
+        constraints.append(_ConstraintSpec(
+            name=c["name"], expr=c["expr"], kind=kind, unilateral=unilateral,
+            reaction=tuple(c["reaction"]) if "reaction" in c else None,
+            transform=tuple(tuple(r) for r in c["transform"]) if "transform" in c else None,
+            restitution=float(restitution)))
+
+    contacts = []
+    for k, c in enumerate(_array_of_tables(data, "contacts", problems)):
+        where = f"[[contacts]] #{k + 1}" + (f" '{c.get('name')}'" if "name" in c else "")
+        problems += _unknown(c, CONTACT_KEYS, where)
+        missing = [key for key in ("name", "gap", "slip") if key not in c]
+        if missing:
+            problems.append(f"{where}: missing {', '.join(missing)} (a contact needs name, "
+                            "gap = \"...\" (>= 0) and slip = [\"...\"])")
+            continue
+        ok = check.name(c, where) & check.expr(c, "gap", where)
+        ok &= check.expr_list(c, "slip", where, (1, 2), allow_scalar=True)
+        for key in ("mu", "mu_static"):
+            if key in c:
+                ok &= check.expr(c, key, where)
+        bilateral = check.boolean(c, "bilateral", where)
+        e = check.number(c, "restitution", where, 0.0, 0.0, 1.0)
+        law = c.get("friction", "coulomb")
+        if not isinstance(law, str) or law not in FRICTION_LAWS:
+            problems.append(f"{where}: friction {law!r} unknown"
+                            f"{did_you_mean(str(law), FRICTION_LAWS)}; use \"coulomb\", "
+                            "\"regularized\" or \"linearized\"")
+            continue
+        mu = c.get("mu", 0)
+        if law == "coulomb":
+            if "eps" in c:
+                problems.append(f"{where}: eps applies to the regularized and linearized laws "
+                                "only; remove it or set friction = \"regularized\"")
+            friction = Coulomb(mu, c.get("mu_static"))
+        else:
+            if "eps" not in c:
+                problems.append(f"{where}: the {law} friction law needs eps (a slip velocity "
+                                "scale in m/s, e.g. eps = 1e-3)")
+                continue
+            eps = check.number(c, "eps", where, None, positive=True)
+            if eps is None:
+                continue
+            friction = (RegularizedCoulomb if law == "regularized" else LinearizedCoulomb)(mu, eps)
+        if not ok:
+            continue
+        impact = Plastic() if not e else Newton(e)
+        slip = c["slip"]
+        contacts.append(Contact(c["name"], c["gap"], tuple(slip) if isinstance(slip, list) else (slip,),
+                                friction, impact, bilateral))
+
+    bodies = []
+    for k, b in enumerate(_array_of_tables(data, "bodies", problems)):
+        kind = b.get("type", "particle")
+        where = f"[[bodies]] #{k + 1}" + (f" '{b.get('name')}'" if "name" in b else "")
+        if not isinstance(kind, str) or kind not in BODY_KEYS:
+            problems.append(f"{where}: type {kind!r} unknown{did_you_mean(str(kind), BODY_KEYS)}; "
+                            "use \"particle\", \"planar\" or \"rigid\"")
+            continue
+        problems += _unknown(b, BODY_KEYS[kind], where)
+        missing = [key for key in BODY_KEYS[kind] - {"type"} if key not in b]
+        if missing:
+            problems.append(f"{where}: missing {', '.join(sorted(missing))}")
+            continue
+        ok = check.name(b, where) & check.expr(b, "mass", where)
+        if kind == "particle":
+            ok &= check.expr_list(b, "position", where, (2, 3))
+            if ok:
+                bodies.append(Particle(b["name"], b["mass"], b["position"]))
+        elif kind == "planar":
+            ok &= check.expr_list(b, "position", where, (2,))
+            ok &= check.expr(b, "inertia", where) & check.expr(b, "angle", where)
+            if ok:
+                bodies.append(PlanarBody(b["name"], b["mass"], b["inertia"], b["position"], b["angle"]))
+        else:
+            ok &= check.expr_list(b, "position", where, (3,))
+            ok &= check.matrix(b, "inertia", where, 3) & check.matrix(b, "rotation", where, 3)
+            if ok:
+                bodies.append(RigidBody(b["name"], b["mass"], b["inertia"], b["position"], b["rotation"]))
+
+    loads = []
+    for k, ld in enumerate(_array_of_tables(data, "loads", problems)):
+        kind = ld.get("type", "force")
+        where = f"[[loads]] #{k + 1}" + (f" '{ld.get('name')}'" if "name" in ld else "")
+        if not isinstance(kind, str) or kind not in LOAD_KEYS:
+            problems.append(f"{where}: type {kind!r} unknown{did_you_mean(str(kind), LOAD_KEYS)}; "
+                            "use \"force\" or \"torque\"")
+            continue
+        problems += _unknown(ld, LOAD_KEYS[kind], where)
+        if kind == "force":
+            missing = [key for key in ("name", "point", "force") if key not in ld]
+            if missing:
+                problems.append(f"{where}: missing {', '.join(missing)}")
+                continue
+            ok = check.name(ld, where) & check.expr_list(ld, "point", where, (2, 3))
+            ok &= check.expr_list(ld, "force", where, (2, 3))
+            if ok:
+                loads.append(Force(ld["name"], ld["point"], ld["force"]))
+        else:
+            missing = [key for key in ("name", "torque") if key not in ld]
+            if missing:
+                problems.append(f"{where}: missing {', '.join(missing)}")
+                continue
+            ok = check.name(ld, where)
+            if "body" in ld and isinstance(ld["torque"], list):   # on a rigid body in space
+                ok &= check.expr_list(ld, "torque", where, (3,))
+            else:                                                  # planar: a scalar torque
+                ok &= check.expr(ld, "torque", where)
+            if "body" in ld and not isinstance(ld["body"], str):
+                problems.append(f"{where}: body must be the name of a body")
+                ok = False
+            if "angle" in ld:
+                ok &= check.expr(ld, "angle", where)
+            if ok:
+                loads.append(Torque(ld["name"], ld["torque"], ld.get("angle"), ld.get("body")))
+
+    sim = table("simulation")
+    t0 = check.number(sim, "t0", "[simulation]", 0.0)
+    settings = {}
+    for key in ("t_end", "max_step"):
+        if key in sim:
+            value = check.number(sim, key, "[simulation]", None, positive=key == "max_step")
+            if value is not None:
+                settings[key] = float(value)
+    for key in ("rtol", "atol"):
+        if key in sim:
+            value = check.number(sim, key, "[simulation]", None, positive=True)
+            if value is not None and key == "rtol" and not 2.3e-14 <= float(value) < 1:
+                problems.append(f"[simulation] rtol: must be at least 2.3e-14 (100 times the "
+                                f"machine precision, the finest the integrators resolve) and below 1 "
+                                f"(got {float(value):g})")
+            elif value is not None:
+                settings[key] = float(value)
+    if "method" in sim:
+        if isinstance(sim["method"], str):
+            settings["method"] = sim["method"]
+        else:
+            problems.append(f"[simulation] method: must be a string (got {_describe(sim['method'])})")
+    initial = data.get("initial", {})
+    if not isinstance(initial, dict):
+        problems.append("[initial]: must be a table name = value")
+        initial = {}
+    initial = {k: v for k, v in initial.items()
+               if check.expr(initial, k, f"[initial] {k}")}
+    forms = table("forms")
+    independent = None
+    if "independent" in forms:
+        independent = forms["independent"]
+        if not isinstance(independent, list) or not all(isinstance(v, str) for v in independent):
+            problems.append(f"[forms] independent: must be a list of coordinate names "
+                            f"(got {_describe(independent)})")
+            independent = None
+    gravity = table("gravity").get("vector")
+    if gravity is not None and not check.expr_list(table("gravity"), "vector", "[gravity]", (2, 3)):
+        gravity = None
+
+    model = None
+    if coords_ok:
+        try:
+            model = Model(
+                name=name,
+                description=description,
+                coordinates=tuple(coords),
+                parameters=params,
+                kinetic=energy.get("kinetic", 0),
+                potential=energy.get("potential", 0),
+                forces=forces,
+                bodies=tuple(bodies),
+                loads=tuple(loads),
+                gravity=tuple(gravity) if gravity is not None else None,
+                constraints=tuple(c.build() for c in constraints),
+                contacts=tuple(contacts),
+                initial=initial,
+                t0=float(t0),
+                independent=tuple(independent) if independent is not None else None,
+                simulation=settings,
+                source=source,
+            )
+        except ModelError as exc:
+            problems += [p for p in exc.problems if p not in problems]
+    if problems:
+        raise ModelError(problems, source)
+    return model
+
+
+class _ConstraintSpec(dict):
+    def __init__(self, **kw):
+        super().__init__(**kw)
+
+    def build(self) -> Constraint:
+        return Constraint(self["name"], self["expr"], self["kind"], self["unilateral"],
+                          self["reaction"], self["transform"], restitution=self["restitution"])
+
+
+def _array_of_tables(data: dict, key: str, problems: list[str]) -> list[dict]:
+    value = data.get(key, [])
+    if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
+        problems.append(f"[[{key}]]: must be an array of tables ([[{key}]] blocks)")
+        return []
+    return value

@@ -1,0 +1,525 @@
+"""Normalization of a :class:`~nonideal.modeling.model.Model`: every field parsed, checked and
+converted to SymPy, every problem collected (one :class:`~nonideal.errors.ModelError` lists
+them all).  Called once, by ``Model.__post_init__``."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import sympy as sp
+
+from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
+from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
+from ..errors import ExpressionError, did_you_mean
+from .symbols import is_identifier
+
+from .declarations import CONSTRAINT_TYPES, METHODS, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
+from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr
+
+__all__ = ["Normalizer"]
+
+
+class Normalizer:
+    """Fills a Model's fields with normalized SymPy objects; collects every problem."""
+
+    def __init__(self, model, problems: list[str]):
+        self.m, self.problems = model, problems
+        self._names: dict[int, dict[str, sp.Expr]] = {}   # by derivative order, once known
+
+    def set(self, name: str, value: Any) -> None:
+        object.__setattr__(self.m, name, value)
+
+    def smooth(self, e: sp.Expr | None, where: str) -> sp.Expr | None:
+        """Expressions that the equations differentiate must be smooth (SymEngine cannot
+        differentiate abs/sign/min/max, and the motion would not be defined at the kinks)."""
+        if e is None:
+            return None
+        live = set(self.names(2).values()) - set(self.m.parameter_symbols)
+        rough = sorted({str(f) for f in e.atoms(sp.Abs, sp.sign, sp.Min, sp.Max) if f.free_symbols & live})
+        if rough:
+            self.problems.append(
+                f"{where}: {', '.join(rough)} is not differentiable, and this expression is "
+                "differentiated to form the equations of motion; write it smoothly (abs(u) -> "
+                "sqrt(u^2) away from 0; min/max of time -> a smooth ramp such as "
+                "1 - exp(-(t/tau)^2))")
+            return None
+        return e
+
+    def names(self, order: int) -> dict[str, sp.Expr]:
+        """The model's names up to derivative *order* (parameters and coordinates are fixed
+        by the time expressions are read)."""
+        if order not in self._names:
+            self._names[order] = self.m.names(order)
+        return self._names[order]
+
+    def expr(self, value: Any, where: str, order: int = 1) -> sp.Expr | None:
+        try:
+            return to_expr(value, self.names(order), where, self.m.coordinates)
+        except ExpressionError as exc:
+            self.problems.extend(exc.problems)
+            self.unknown.extend(exc.unknown)
+            return None
+
+    def run(self) -> None:
+        self.unknown: list[tuple[str, str]] = []
+        self.names_and_parameters()
+        if self.problems:
+            return
+        self.energy_and_forces()
+        self.bodies_and_loads()
+        self.constraints()
+        self.contacts()
+        self.initial_and_settings()
+        self.summarize_unknown()
+
+    def summarize_unknown(self) -> None:
+        """One line listing every undefined name and where it is used (when there are several)."""
+        uses: dict[str, list[str]] = {}
+        for name, where in self.unknown:
+            if not name.endswith("'"):
+                uses.setdefault(name, [])
+                if where not in uses[name]:
+                    uses[name].append(where)
+        if not uses:
+            return
+        if len(self.unknown) == 1:
+            name = next(iter(uses))
+            known = [*self.m.parameters, *self.m.coordinates, *RESERVED_NAMES]
+            if did_you_mean(name, known):
+                return   # a typo: the message already suggests the name
+            self.problems.append(f"'{name}' is not a parameter, coordinate or known function: define "
+                                 f"it in [parameters] as {name} = value (SI units), or correct the "
+                                 "spelling; there are no default values")
+            return
+        listing = "; ".join(f"{name} (in {', '.join(w)})" for name, w in sorted(uses.items()))
+        self.problems.append(
+            f"missing parameters: {', '.join(sorted(uses))} -- used in: {listing}; define each "
+            "in [parameters] as name = value (SI units), or correct the spelling; there are no "
+            "default values"
+        )
+
+    # -- names
+    def names_and_parameters(self) -> None:
+        m = self.m
+        coords = m.coordinates
+        if isinstance(coords, str):
+            coords = (coords,)
+        self.set("coordinates", tuple(coords))
+        if not m.coordinates:
+            self.problems.append("[coordinates] q: at least one coordinate is required")
+        seen: set[str] = set()
+        for c in m.coordinates:
+            if not isinstance(c, str) or not is_identifier(c):
+                self.problems.append(
+                    f"[coordinates] q: {c!r} is not a valid name (letters, digits, _; "
+                    "not starting with a digit)"
+                )
+            elif c in RESERVED_NAMES:
+                self.problems.append(f"[coordinates] q: '{c}' is reserved; choose another name")
+            elif c in seen:
+                self.problems.append(f"[coordinates] q: '{c}' appears twice")
+            seen.add(c)
+        params: dict[str, Parameter] = {}
+        for name, value in dict(m.parameters).items():
+            where = f"[parameters] {name}"
+            if not isinstance(name, str) or not is_identifier(name):
+                self.problems.append(f"{where}: not a valid name (letters, digits, _, not starting "
+                                     "with a digit, not a Python keyword such as 'lambda' or 'if')")
+                continue
+            if name in RESERVED_NAMES:
+                self.problems.append(f"{where}: '{name}' is reserved; choose another name")
+                continue
+            if name in seen:
+                self.problems.append(f"{where}: '{name}' is also a coordinate")
+                continue
+            if isinstance(value, Parameter):
+                p = value
+            elif isinstance(value, Mapping):
+                p = Parameter(name, value.get("value"), str(value.get("unit", "")),
+                              str(value.get("description", "")))
+            else:
+                p = Parameter(name, value)
+            params[name] = p
+        values, problems = resolve_parameters({n: p.value for n, p in params.items()})
+        self.problems += problems
+        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description)
+                                for n, p in params.items() if n in values})
+
+    # -- energy
+    def energy_and_forces(self) -> None:
+        m = self.m
+        kin = self.expr(m.kinetic, "[energy] kinetic", 1)
+        if kin is not None:
+            velocities = set(m.qd)
+            rough = sorted({str(f) for f in kin.atoms(sp.Abs, sp.sign, sp.Min, sp.Max)
+                            if f.free_symbols & velocities})
+            if rough:
+                self.problems.append(
+                    f"[energy] kinetic: {', '.join(rough)} is not differentiable in the "
+                    "velocities; the kinetic energy must be smooth in the velocities (the "
+                    "equations of motion use its second derivatives), e.g. m/2*x'^2 instead "
+                    "of m/2*abs(x')^2")
+                kin = None
+        pot = self.smooth(self.expr(m.potential, "[energy] potential", 0), "[energy] potential")
+        self.set("kinetic", kin if kin is not None else sp.Integer(0))
+        self.set("potential", pot if pot is not None else sp.Integer(0))
+        forces = m.forces
+        if isinstance(forces, Mapping):
+            bad = [k for k in forces if k not in m.coordinates]
+            for k in bad:
+                self.problems.append(
+                    f"[forces] {k}: not a coordinate{did_you_mean(str(k), m.coordinates)}; "
+                    "generalized forces are given per coordinate"
+                )
+            forces = [forces.get(c, 0) for c in m.coordinates]
+        forces = list(forces)
+        if len(forces) != m.n_q:
+            self.problems.append(f"[forces]: expected {m.n_q} entries, got {len(forces)}")
+            forces = [0] * m.n_q
+        out = []
+        for c, f in zip(m.coordinates, forces):
+            e = self.expr(f, f"[forces] {c}", 1)
+            out.append(e if e is not None else sp.Integer(0))
+        self.set("forces", tuple(out))
+
+    def vector(self, values: Any, where: str, sizes: tuple[int, ...], order: int = 0):
+        values = list(values) if not isinstance(values, str) else [values]
+        if len(values) not in sizes:
+            self.problems.append(
+                f"{where}: expected {' or '.join(map(str, sizes))} components, got {len(values)}"
+            )
+            return None
+        out = [self.expr(v, f"{where}[{i}]", order) for i, v in enumerate(values)]
+        if order == 0:  # geometry (positions, rotations) is differentiated: it must be smooth
+            out = [self.smooth(e, f"{where}[{i}]") for i, e in enumerate(out)]
+        return None if any(e is None for e in out) else tuple(out)
+
+    def bodies_and_loads(self) -> None:
+        m = self.m
+        bodies, names = [], set()
+        for b in m.bodies:
+            where = f"body '{getattr(b, 'name', '?')}'"
+            if b.name in names:
+                self.problems.append(f"{where}: duplicate body name")
+            names.add(b.name)
+            mass = self.expr(b.mass, f"{where}: mass", 0)
+            if isinstance(b, Particle):
+                pos = self.vector(b.position, f"{where}: position", (2, 3))
+                if mass is not None and pos is not None:
+                    bodies.append(Particle(b.name, mass, pos))
+            elif isinstance(b, PlanarBody):
+                pos = self.vector(b.position, f"{where}: position", (2,))
+                inertia = self.expr(b.inertia, f"{where}: inertia", 0)
+                angle = self.smooth(self.expr(b.angle, f"{where}: angle", 0), f"{where}: angle")
+                if None not in (mass, pos, inertia, angle):
+                    bodies.append(PlanarBody(b.name, mass, inertia, pos, angle))
+            elif isinstance(b, RigidBody):
+                pos = self.vector(b.position, f"{where}: position", (3,))
+                rows_i = [self.vector(r, f"{where}: inertia", (3,)) for r in b.inertia]
+                rows_r = [self.vector(r, f"{where}: rotation", (3,)) for r in b.rotation]
+                if len(rows_i) != 3 or len(rows_r) != 3:
+                    self.problems.append(f"{where}: inertia and rotation must be 3x3")
+                elif None not in (mass, pos, *rows_i, *rows_r):
+                    bodies.append(RigidBody(b.name, mass, tuple(rows_i), pos, tuple(rows_r)))
+            else:
+                self.problems.append(f"{where}: not a Particle, PlanarBody or RigidBody")
+        self.set("bodies", tuple(bodies))
+        if m.gravity is not None:
+            self.set("gravity", self.vector(m.gravity, "[gravity] vector", (2, 3)))
+        loads = []
+        body_names = {b.name: b for b in bodies}
+        for ld in m.loads:
+            where = f"load '{getattr(ld, 'name', '?')}'"
+            if isinstance(ld, Force):
+                pt = self.vector(ld.point, f"{where}: point", (2, 3))
+                fv = self.vector(ld.force, f"{where}: force", (2, 3), order=1)
+                if pt is not None and fv is not None:
+                    if len(pt) != len(fv):
+                        self.problems.append(f"{where}: point and force have different dimensions")
+                    else:
+                        loads.append(Force(ld.name, pt, fv))
+            elif isinstance(ld, Torque):
+                body = body_names.get(ld.body) if ld.body is not None else None
+                if ld.body is not None and body is None:
+                    self.problems.append(f"{where}: body '{ld.body}' is not a body of this model"
+                                         + did_you_mean(ld.body, body_names))
+                    continue
+                if isinstance(body, PlanarBody):   # Q_j = torque * d(angle)/dq_j
+                    if isinstance(ld.torque, (tuple, list)):
+                        self.problems.append(f"{where}: body '{ld.body}' is planar: its torque is "
+                                             "one expression (about the normal to the plane)")
+                        continue
+                    tq = self.expr(ld.torque, f"{where}: torque", 1)
+                    if tq is not None:
+                        loads.append(Torque(ld.name, tq, body.angle, None))
+                elif isinstance(body, RigidBody):
+                    tq = self.vector(ld.torque, f"{where}: torque", (3,), order=1)
+                    if tq is not None:
+                        loads.append(Torque(ld.name, tq, None, ld.body))
+                elif body is not None:
+                    self.problems.append(f"{where}: body '{ld.body}' is a particle: a torque acts on "
+                                         "a planar or rigid body")
+                else:
+                    tq = self.expr(ld.torque, f"{where}: torque", 1)
+                    ang = self.expr(ld.angle, f"{where}: angle", 0) if ld.angle is not None else None
+                    if ld.angle is None:
+                        self.problems.append(f"{where}: a planar torque needs 'angle' (or 'body')")
+                    elif tq is not None and ang is not None:
+                        loads.append(Torque(ld.name, tq, ang, None))
+            else:
+                self.problems.append(f"{where}: not a Force or Torque")
+        self.set("loads", tuple(loads))
+
+    # -- constraints
+    def constraints(self) -> None:
+        m = self.m
+        out, names = [], set()
+        for c in m.constraints:
+            where = f"constraint '{c.name}'"
+            if not isinstance(c.name, str) or not is_identifier(c.name):
+                self.problems.append(f"{where}: name must be an identifier (letters, digits, _)")
+                continue
+            if c.name in names:
+                self.problems.append(f"{where}: duplicate constraint name")
+            names.add(c.name)
+            if c.kind not in ("auto",) + CONSTRAINT_TYPES:
+                self.problems.append(
+                    f"{where}: type '{c.kind}' unknown{did_you_mean(c.kind, CONSTRAINT_TYPES)}; "
+                    "use holonomic, nonholonomic or servo"
+                )
+                continue
+            expr = self.smooth(self.expr(c.expr, f"{where}: expr", 2), f"{where}: expr")
+            if expr is None:
+                continue
+            order = derivative_order(expr, m.coordinates)
+            kind = c.kind
+            if kind == "holonomic" and order > 0:
+                self.problems.append(
+                    f"{where}: declared holonomic but contains velocities or accelerations; "
+                    "declare it nonholonomic"
+                )
+                continue
+            if kind == "nonholonomic" and order == 0:
+                self.problems.append(
+                    f"{where}: declared nonholonomic but contains no velocities; declare it holonomic"
+                )
+                continue
+            if kind == "servo" and c.reaction is None:
+                self.problems.append(
+                    f"{where}: a servo-constraint needs 'reaction' (the generalized direction "
+                    "of the control force, one entry per coordinate)"
+                )
+                continue
+            if order == 2:
+                acc = [a for a in m.qdd if a in expr.free_symbols]
+                if any(sp.diff(expr, a, b) != 0 for a in acc for b in acc):
+                    self.problems.append(f"{where}: a second-order constraint must be linear in the accelerations")
+                    continue
+            if identically_zero(expr):
+                shown = c.expr if isinstance(c.expr, str) else str(c.expr)
+                self.problems.append(
+                    f"{where}: expr {shown!r} is identically zero, so it constrains nothing; "
+                    "correct the expression or remove the constraint")
+                continue
+            if c.unilateral and order > 0:
+                self.problems.append(
+                    f"{where}: only holonomic constraints can be unilateral (expr >= 0)"
+                )
+                continue
+            reaction = None
+            if c.reaction is not None:
+                reaction = self.vector(c.reaction, f"{where}: reaction", (m.n_q,), order=1)
+                if reaction is None:
+                    continue
+                if all(r == 0 for r in reaction):
+                    self.problems.append(f"{where}: reaction direction is zero")
+                    continue
+            transform = None
+            if c.transform is not None:
+                rows = [self.vector(r, f"{where}: transform", (m.n_q,), order=1) for r in c.transform]
+                if len(rows) != m.n_q:
+                    self.problems.append(f"{where}: transform must be {m.n_q}x{m.n_q}")
+                    continue
+                if any(r is None for r in rows):
+                    continue
+                transform = tuple(rows)
+                if c.reaction is not None:
+                    self.problems.append(f"{where}: give either 'reaction' (servo) or 'transform' (quasi-ideal), not both")
+                    continue
+            kind = "holonomic" if order == 0 else "nonholonomic"
+            restitution = float(c.restitution)
+            if not 0.0 <= restitution <= 1.0:
+                self.problems.append(f"{where}: restitution must lie in [0, 1] (got {restitution})")
+                continue
+            out.append(Constraint(c.name, expr, kind, bool(c.unilateral), reaction, transform,
+                                  restitution=restitution, order=order))
+        self.set("constraints", tuple(out))
+
+    def contacts(self) -> None:
+        m = self.m
+        out, names = [], {c.name for c in m.constraints}
+        for ct in m.contacts:
+            where = f"contact '{ct.name}'"
+            if not isinstance(ct.name, str) or not is_identifier(ct.name):
+                self.problems.append(f"{where}: name must be an identifier")
+                continue
+            if ct.name in names:
+                self.problems.append(f"{where}: name already used by a constraint or contact")
+                continue
+            names.add(ct.name)
+            gap = self.smooth(self.expr(ct.gap, f"{where}: gap", 2), f"{where}: gap")
+            if gap is None:
+                continue
+            if derivative_order(gap, m.coordinates) > 0:
+                self.problems.append(
+                    f"{where}: the gap must be a function of the coordinates and time only "
+                    "(it contains velocities)"
+                )
+                continue
+            if identically_zero(gap) or not (gap.free_symbols & set(m.q)):
+                self.problems.append(
+                    f"{where}: the gap does not depend on the coordinates, so no normal force "
+                    "can be identified; write the normal distance, e.g. gap = \"y\""
+                )
+                continue
+            slips = []
+            if not 1 <= len(ct.slip) <= 2:
+                self.problems.append(f"{where}: slip must have 1 or 2 components (got {len(ct.slip)})")
+                continue
+            for i, s in enumerate(ct.slip):
+                e = self.smooth(self.expr(s, f"{where}: slip[{i}]", 2), f"{where}: slip[{i}]")
+                if e is None:
+                    continue
+                if derivative_order(e, m.coordinates) == 2:
+                    self.problems.append(f"{where}: slip[{i}] must not contain accelerations")
+                    continue
+                if any(sp.diff(e, a, b) != 0 for a in m.qd for b in m.qd if a in e.free_symbols):
+                    self.problems.append(
+                        f"{where}: slip[{i}] = {e} is not linear in the velocities; a slip "
+                        "velocity is W(q,t) q' + w0"
+                    )
+                    continue
+                if not (e.free_symbols & set(m.qd)):
+                    self.problems.append(
+                        f"{where}: slip[{i}] = {e} contains no velocity; it must be the "
+                        "tangential velocity of the contact point"
+                    )
+                    continue
+                slips.append(e)
+            if len(slips) != len(ct.slip):
+                continue
+            friction = self.friction(ct.friction, where)
+            impact = ct.impact
+            if not isinstance(impact, (Plastic, Newton)):
+                self.problems.append(f"{where}: impact must be Plastic() or Newton(e)")
+                continue
+            if not 0.0 <= float(impact.restitution) <= 1.0:
+                self.problems.append(f"{where}: restitution must lie in [0, 1] (got {impact.restitution})")
+                continue
+            if friction is None:
+                continue
+            out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral)))
+        self.set("contacts", tuple(out))
+        # the multipliers are printed as lambda_<constraint>: a parameter or coordinate of that
+        # name would read like a multiplier in every equation
+        for kind, given in (("[parameters]", m.parameters), ("[coordinates] q:", m.coordinates)):
+            for name in given:
+                if isinstance(name, str) and name.startswith("lambda_") and name[7:] in names:
+                    self.problems.append(
+                        f"{kind} '{name}' is the name of the multiplier of constraint or contact "
+                        f"'{name[7:]}' in the equations; rename it")
+
+    def friction(self, law: Any, where: str):
+        pvals = parameter_values(self.m.parameters)
+
+        def coefficient(value: Any, key: str):
+            e = self.expr(value, f"{where}: {key}", 0)
+            if e is None:
+                return None
+            if not e.free_symbols & set(self.m.q):
+                v = e.xreplace(pvals)
+                if v.is_number and float(v) < 0:
+                    self.problems.append(
+                        f"{where}: {key} = {float(v):g} is negative; a friction coefficient "
+                        "is >= 0"
+                    )
+                    return None
+            return e
+
+        if isinstance(law, Coulomb):
+            mu = coefficient(law.mu, "mu")
+            mus = coefficient(law.mu_static if law.mu_static is not None else law.mu, "mu_static")
+            if mu is None or mus is None:
+                return None
+            return Coulomb(mu, mus)
+        if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)):
+            mu = coefficient(law.mu, "mu")
+            if mu is None:
+                return None
+            if not float(law.eps) > 0:
+                self.problems.append(f"{where}: eps must be > 0 (got {law.eps})")
+                return None
+            return type(law)(mu, float(law.eps))
+        self.problems.append(
+            f"{where}: friction must be Coulomb, RegularizedCoulomb or LinearizedCoulomb"
+        )
+        return None
+
+    # -- initial state and settings
+    def initial_and_settings(self) -> None:
+        m = self.m
+        allowed = set(m.coordinates) | {c + "'" for c in m.coordinates}
+        names = {n: sp.Symbol(n) for n in m.parameters}
+        values = parameter_values(m.parameters)
+        out = {}
+        for key, value in dict(m.initial).items():
+            where = f"[initial] {key}"
+            if key not in allowed:
+                self.problems.append(
+                    f"{where}: not a coordinate or velocity{did_you_mean(str(key), allowed)}"
+                )
+                continue
+            try:
+                e = to_expr(value, names, where, ())
+            except ExpressionError as exc:
+                self.problems.extend(exc.problems)
+                continue
+            if e.free_symbols - set(names.values()):
+                self.problems.append(f"{where}: initial values may use parameters only")
+                continue
+            val = e.xreplace(values)
+            if not val.is_real or not math.isfinite(float(val)):
+                self.problems.append(f"{where}: value is not a finite real number")
+                continue
+            out[key] = e
+        self.set("initial", out)
+        if m.independent is not None:
+            ind = tuple(m.independent)
+            for name in ind:
+                if name not in m.coordinates:
+                    self.problems.append(
+                        f"[forms] independent: '{name}' is not a coordinate"
+                        + did_you_mean(str(name), m.coordinates)
+                    )
+            self.set("independent", ind)
+        sim = m.simulation
+        if isinstance(sim, Mapping):
+            try:
+                sim = SimulationSettings(**sim)
+            except TypeError as exc:
+                self.problems.append(f"[simulation]: {exc}")
+                sim = SimulationSettings()
+        if sim.method not in METHODS:
+            self.problems.append(
+                f"[simulation] method: '{sim.method}' unknown{did_you_mean(sim.method, METHODS)}; "
+                f"choose one of {', '.join(METHODS)}"
+            )
+        for key in ("rtol", "atol"):
+            v = getattr(sim, key)
+            if not (isinstance(v, (int, float)) and 0 < v < 1):
+                self.problems.append(f"[simulation] {key}: must be a number in (0, 1) (got {v!r})")
+        if sim.t_end is not None and not (isinstance(sim.t_end, (int, float)) and sim.t_end > m.t0):
+            self.problems.append(f"[simulation] t_end: must be a number > t0 = {m.t0} (got {sim.t_end!r})")
+        self.set("simulation", sim)

@@ -1,0 +1,342 @@
+"""Statically indeterminate reactions: the admissible distribution with the widest margins.
+
+When the rows of a mode are dependent -- a ladder sticking at a rough wall and a rough floor
+(four rows on three coordinates), a table whose legs stick to a rough floor -- the
+accelerations are unique but the multipliers are not: with ``B`` the mode's reaction columns
+and ``R = M q'' - F`` the total generalized reaction, every
+
+    lambda = lambda_p + Z w,        B lambda_p = R,   B Z = 0
+
+(``lambda_p`` the minimum-norm solution, ``Z`` an orthonormal basis of the null space of ``B``)
+gives the same motion.  In rigid-body Coulomb theory the mode continues as long as SOME
+distribution satisfies every condition of the rows it involves:
+
+* a held unilateral constraint: ``lambda >= 0``;
+* a touching contact: ``N >= 0`` (``sigma N >= 0`` for a bilateral one sliding);
+* a sticking contact: ``mu_s N - |F| >= 0`` -- two linear conditions for one slip component,
+  a second-order cone (the disc ``|F| <= mu_s N``) for two; a bilateral contact uses ``|N|``
+  with the sign of ``N`` in the minimum-norm distribution.
+
+:func:`best_distribution` reports the distribution that maximizes the smallest of these
+margins (force units) over the conditions whose rows are indeterminate (rows with a zero row of
+``Z`` keep their unique multiplier and their own events) and, among those (a table on four legs
+has a family of them), the one of least norm; the margin is capped at the scale of the forces,
+``1 + max |R| + max |lambda_p|``, so that a body wedged between rough supports, whose margins
+have no bound, gets finite forces.  The stick/slip decisions then read it: a mode
+is consistent iff its best margin is >= 0, and the events of the contacts (slip, lift-off) fire
+where the best margin reaches zero -- when no admissible distribution is left -- at the
+contact whose condition binds.  The minimum-norm distribution, used before, could violate a
+cone while another distribution satisfied all of them (spurious slip events at times that
+followed the step size).
+
+Solution.  Maximize ``t`` over ``(w, t)`` subject to ``margin_i(lambda_p + Z w) >= t``: a linear
+program for linear conditions (:func:`scipy.optimize.linprog`, HiGHS); each disc is replaced by
+an outer polygon (its tangent half-planes ``u . F <= mu_s N - t``), refined by cuts at the
+friction direction of the current solution (Kelley's cutting planes), and the solution is
+polished by Newton's method on the optimality conditions of the active conditions (the discs
+as the smooth ``mu_s N - |F|``).  Every candidate's smallest margin is evaluated exactly, so
+the value returned is always attained by the distribution returned; the outer polygon's optimum
+bounds it from above, and the iteration stops when the two agree to ``1e-12`` of the force
+scale (machine precision for linear conditions; for discs after a few cuts).  That makes the
+slip events as exact as the others: Brent's method on the margin locates them to ~1e-12 of
+the force scale over the margin's rate.  The maximizer of least norm is then the point of least
+norm where every margin is at least the optimum: least-distance programming (Lawson & Hanson,
+one non-negative least-squares problem) on the polygons, cut again where a disc is violated.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import linprog, nnls
+
+from .types import STICK
+
+__all__ = ["Distribution", "best_distribution", "maxmin"]
+
+#: singular values of ``B`` below this (relative) span its null space
+NULL_RTOL = 1e-10
+#: rows of ``Z`` (orthonormal) below this norm are determinate
+DETERMINATE_TOL = 1e-9
+#: the outer polygon's optimum and the best margin found agree to this (of the force scale)
+GAP_TOL = 1e-12
+MAX_CUTS = 40
+_HIGHS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+
+
+@dataclass(frozen=True)
+class Distribution:
+    """The multipliers of a mode's rows chosen by :func:`best_distribution`.
+
+    Attributes
+    ----------
+    values : ndarray, shape (m,)
+        Multipliers of the layout rows.
+    margin : float
+        The smallest margin of the conditions that involve indeterminate rows (``inf`` when
+        none does).
+    determinate : frozenset of str
+        Names of the rows whose multiplier is unique.
+    """
+
+    values: np.ndarray
+    margin: float
+    determinate: frozenset[str]
+
+
+def best_distribution(solver, mode, layout, B: np.ndarray, R: np.ndarray, cout: dict) -> Distribution:
+    """The admissible distribution of a dependent mode's multipliers with the widest margins
+    (see the module docstring).
+
+    Parameters
+    ----------
+    solver : ModeSolver
+    mode : Mode
+    layout : list of RowSpec
+        The mode's rows.
+    B : ndarray, shape (n_q, m)
+        Their reaction columns at the state.
+    R : ndarray, shape (n_q,)
+        The total generalized reaction ``M q'' - F``.
+    cout : dict
+        The contact kernel's outputs at the state (``mu_s``).
+
+    Returns
+    -------
+    Distribution
+    """
+    m = len(layout)
+    U, S, Vt = np.linalg.svd(B, full_matrices=True)
+    rank = int(np.sum(S > NULL_RTOL * max(S[0], 1e-300))) if S.size else 0
+    lam = Vt[:rank].T @ ((U[:, :rank].T @ R) / S[:rank])
+    Z = Vt[rank:].T
+    free = np.linalg.norm(Z, axis=1) > DETERMINATE_TOL if Z.size else np.zeros(m, dtype=bool)
+    determinate = frozenset(r.name for r, f in zip(layout, free) if not f)
+    linear, cones = _conditions(solver, mode, layout, lam, cout, free)
+    if not free.any() or not (linear or cones):
+        return Distribution(lam, np.inf, determinate)
+    scale = 1.0 + float(np.max(np.abs(R))) + float(np.max(np.abs(lam)))
+    # the conditions in w, per unit of the force scale
+    lin_a = np.array([Z.T @ c for c in linear]).reshape(len(linear), Z.shape[1])
+    lin_b = np.array([c @ lam for c in linear]) / scale
+    cone_data = [(Z.T @ nv, nv @ lam / scale, T @ Z, T @ lam / scale) for nv, T in cones]
+    w, t = maxmin(lin_a, lin_b, cone_data, cap=1.0)
+    return Distribution(lam + Z @ (w * scale), t * scale, determinate)
+
+
+def _conditions(solver, mode, layout, lam, cout, free):
+    """The conditions of the module docstring whose rows include an indeterminate one, as
+    vectors over the multipliers: linear ``c . lambda >= t``; cones ``n . lambda - |T lambda| >= t``
+    (``n`` carrying ``mu_s`` and the sign)."""
+    m = len(layout)
+    linear, cones = [], []
+    tangents: dict[int, list[int]] = {}
+    for j, r in enumerate(layout):
+        if r.kind == "tangent":
+            tangents.setdefault(r.index, []).append(j)
+
+    def unit(j, factor=1.0):
+        v = np.zeros(m)
+        v[j] = factor
+        return v
+    for j, r in enumerate(layout):
+        if r.kind == "constraint":
+            if solver.kernel.rows[r.index].unilateral and free[j]:
+                linear.append(unit(j))
+            continue
+        if r.kind != "normal":
+            continue
+        c = r.index
+        cs = mode.contacts[c][1]
+        rows = [j] + tangents.get(c, [])
+        if not free[rows].any():
+            continue
+        bilateral = solver.ck.data[c].bilateral
+        sigma = cs.sigma if not bilateral or cs.state != STICK else (1.0 if lam[j] >= 0 else -1.0)
+        if not bilateral or cs.state != STICK:
+            linear.append(unit(j, sigma))
+        if cs.state == STICK:
+            nv = unit(j, sigma * float(cout["mu_s"][c]))
+            T = np.array([unit(k) for k in tangents[c]])
+            if len(T) == 1:
+                linear += [nv - T[0], nv + T[0]]
+            else:
+                cones.append((nv, T))
+    return linear, cones
+
+
+def maxmin(lin_a: np.ndarray, lin_b: np.ndarray, cones, cap: float):
+    """Maximize the smallest of the concave margins ``lin_a w + lin_b`` and
+    ``a_N . w + b_N - |A_F w + b_F|`` (for ``(a_N, b_N, A_F, b_F)`` in *cones*), capped at
+    *cap*; among the maximizers, the one of least norm.
+
+    Returns
+    -------
+    w : ndarray, shape (k,)
+        The maximizer (its components along directions no margin depends on are zero).
+    t : float
+        Its smallest margin (``<= cap``).
+
+    Examples
+    --------
+    >>> w, t = maxmin(np.array([[1.0], [-1.0]]), np.array([0.0, 1.0]), [], cap=10.0)
+    >>> round(float(w[0]), 14), round(float(t), 14)
+    (0.5, 0.5)
+    >>> w, t = maxmin(np.zeros((0, 2)), np.zeros(0), [(np.zeros(2), 1.0, np.eye(2), np.array([0.6, 0.8]))], 10.0)
+    >>> np.allclose(w, [-0.6, -0.8]), round(float(t), 12)
+    (True, 1.0)
+    """
+    k = lin_a.shape[1]
+    rows = list(lin_a) + [a for a, _, _, _ in cones] + [r for _, _, A, _ in cones for r in A]
+    # the directions some margin depends on (w = Q v, v in them): the program has vertices
+    _, S, Vt = np.linalg.svd(np.array(rows).reshape(len(rows), k))
+    Q = Vt[:int(np.sum(S > 1e-12 * max(S[0], 1e-300)))].T if S.size else np.zeros((k, 0))
+    problem = _Problem(lin_a @ Q, lin_b, [(a @ Q, b, A @ Q, f) for a, b, A, f in cones])
+    v, t = problem.solve(cap)
+    v = problem.least_norm(t, v)
+    return Q @ v, min(float(np.min(problem.margins(v))), cap)
+
+
+class _Problem:
+    """``max t`` subject to ``margin_i(v) >= t``, ``t <= cap``, in coordinates ``v`` on which the
+    margins depend (the full-column-rank form of :func:`maxmin`); the discs' polygons
+    (:attr:`cuts`, unit vectors ``u``: ``u . F <= mu_s N - t``) grow with every solve."""
+
+    def __init__(self, lin_a, lin_b, cones):
+        self.lin_a, self.lin_b, self.cones = lin_a, lin_b, cones
+        self.p = lin_a.shape[1] if lin_a.size else (cones[0][0].size if cones else 0)
+        angles = np.arange(8) * np.pi / 4
+        self.cuts = [[np.array([np.cos(a), np.sin(a)]) for a in angles] for _ in cones]
+
+    def margins(self, v: np.ndarray) -> np.ndarray:
+        """Every margin at ``v`` (linear ones first)."""
+        out = list(self.lin_a @ v + self.lin_b) if len(self.lin_b) else []
+        for a, b, A, f in self.cones:
+            out.append(a @ v + b - float(np.linalg.norm(A @ v + f)))
+        return np.array(out)
+
+    def _cut(self, v: np.ndarray, below: float = np.inf) -> None:
+        """Add to each disc's polygon the tangent at the friction direction at ``v`` (only for
+        the discs whose margin there is below *below*)."""
+        for cut, (a, b, A, f) in zip(self.cuts, self.cones):
+            F = A @ v + f
+            norm = float(np.linalg.norm(F))
+            if norm > 1e-14 and a @ v + b - norm < below:
+                cut.append(F / norm)
+
+    def _rows(self):
+        """The margins with the discs replaced by their polygons: ``G v + h >= t`` for every
+        row, and the disc of each row (None for a linear margin)."""
+        G, h, disc = list(self.lin_a), list(self.lin_b), [None] * len(self.lin_b)
+        for i, (cut, (a, b, A, f)) in enumerate(zip(self.cuts, self.cones)):
+            for u in cut:  # a v + b - u . (A v + f) >= t
+                G.append(a - u @ A)
+                h.append(b - u @ f)
+                disc.append(i)
+        return np.array(G).reshape(len(h), self.p), np.array(h), disc
+
+    def solve(self, cap: float):
+        """The maximizer ``(v, t)`` (see the module docstring)."""
+        best_v, best_t = None, -np.inf
+        for _ in range(MAX_CUTS):
+            v, t_out, duals = self._outer(cap)
+            candidates = [v]
+            polished = self._polish(v, duals)
+            if polished is not None:
+                candidates.append(polished)
+            for u in candidates:
+                t_in = min(float(np.min(self.margins(u))), cap)
+                if t_in > best_t:
+                    best_v, best_t = u, t_in
+            if t_out - best_t <= GAP_TOL:
+                break
+            for u in candidates:
+                self._cut(u)
+        return best_v, best_t
+
+    def _outer(self, cap):
+        """The linear program with every disc replaced by its polygon: ``(v, t, duals)``,
+        ``duals`` the multipliers of the linear margins, then of each disc (its cuts summed)."""
+        G, h, disc = self._rows()
+        res = linprog(np.concatenate((np.zeros(self.p), [-1.0])), A_ub=np.hstack((-G, np.ones((len(h), 1)))),
+                      b_ub=h, bounds=[(None, None)] * self.p + [(None, cap)], method="highs", options=_HIGHS)
+        marg = -res.ineqlin.marginals
+        nl = len(self.lin_b)
+        duals = np.zeros(nl + len(self.cones))
+        duals[:nl] = marg[:nl]
+        for d, i in zip(marg[nl:], disc[nl:]):
+            duals[nl + i] += d
+        return res.x[:self.p], float(res.x[self.p]), duals
+
+    def least_norm(self, t: float, v0: np.ndarray) -> np.ndarray:
+        """The least-norm ``v`` with every margin ``>= t`` (when *t* is the optimum: the
+        maximizer of least norm), by least-distance programming on the polygons
+        (:func:`_least_distance`) with cuts where a disc is violated; *v0* (a maximizer) when
+        that does not converge."""
+        for _ in range(MAX_CUTS):
+            G, h, _ = self._rows()
+            v = _least_distance(G, t - h)
+            if v is None:
+                break
+            if float(np.min(self.margins(v))) >= t - GAP_TOL:
+                return v
+            self._cut(v, below=t - GAP_TOL)
+        return v0
+
+    def _polish(self, v, duals):
+        """Newton's method on the optimality conditions of the active margins (positive
+        *duals*): ``sum nu_i grad_i = 0``, ``sum nu_i = 1``, ``margin_i(v) = t``; None when it
+        does not converge or a disc's friction vanishes on the way (its apex, where the
+        polygon is exact)."""
+        active = [i for i, d in enumerate(duals) if d > 1e-12]
+        if not active or len(active) > self.p + 1:
+            return None
+        nl = len(self.lin_b)
+        nu = np.array([duals[i] for i in active])
+        nu /= nu.sum()
+        t = float(np.min(self.margins(v)))
+        p, a = self.p, len(active)
+        for _ in range(20):
+            grads, values = np.zeros((a, p)), np.zeros(a)
+            H = np.zeros((p, p))
+            for row, i in enumerate(active):
+                if i < nl:
+                    grads[row], values[row] = self.lin_a[i], self.lin_a[i] @ v + self.lin_b[i]
+                    continue
+                ca, cb, A, f = self.cones[i - nl]
+                F = A @ v + f
+                norm = float(np.linalg.norm(F))
+                if norm < 1e-12:
+                    return None
+                u = F / norm
+                grads[row], values[row] = ca - A.T @ u, ca @ v + cb - norm
+                H -= nu[row] * (A.T @ (np.eye(len(F)) - np.outer(u, u)) @ A) / norm
+            res = np.concatenate((grads.T @ nu, [1.0 - nu.sum()], values - t))
+            if float(np.max(np.abs(res))) <= 1e-15:
+                break
+            J = np.zeros((p + 1 + a, p + 1 + a))
+            J[:p, :p] = H
+            J[:p, p + 1:] = grads.T
+            J[p, p + 1:] = -1.0
+            J[p + 1:, :p] = grads
+            J[p + 1:, p] = -1.0
+            step = np.linalg.lstsq(J, -res, rcond=None)[0]
+            v, t, nu = v + step[:p], t + step[p], nu + step[p + 1:]
+        else:
+            return None
+        return v
+
+
+def _least_distance(G: np.ndarray, h: np.ndarray) -> np.ndarray | None:
+    """``min |v|`` subject to ``G v >= h`` (Lawson & Hanson's least-distance programming,
+    *Solving Least Squares Problems* (1974), ch. 23: one non-negative least-squares problem);
+    None when the constraints are incompatible."""
+    E = np.vstack((G.T, h[None, :]))
+    f = np.zeros(E.shape[0])
+    f[-1] = 1.0
+    u, _ = nnls(E, f)
+    r = E @ u - f
+    if abs(r[-1]) < 1e-14:
+        return None
+    return -r[:-1] / r[-1]

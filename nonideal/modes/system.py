@@ -1,0 +1,665 @@
+"""The motion in one mode, as the hybrid loop reads it: :class:`ModeSystem`,
+:class:`ModeFunction` and :class:`Motion`.
+
+For Lagrange's equations of the first kind the motion in a mode is the saddle-point system
+
+    [[M, B], [G, 0]] [q''; -lambda] = [F; -gamma]
+
+whose blocks are entries of the compiled kernels (:class:`~nonideal.numeric.Kernel`: ``M``,
+``F`` and every constraint row; :class:`~nonideal.contact_kernel.ContactKernel`: the contacts'
+normal and slip rows).  A :class:`ModeSystem` is built once per mode structure and holds where
+every entry of that matrix and of its right-hand side sits in the kernels' flat outputs, so
+that one evaluation is two compiled calls writing into one buffer, one gather, one numeric
+update of each sliding contact's friction column ``-sigma mu s W`` (``s`` depends on the slip),
+and one LAPACK ``dgesv``, whose LU factors are kept: the effective normal compliance of a
+sliding contact (Painleve's watch, :class:`~nonideal.events.Jam`) then costs one more
+triangular solve.  It does the same floating-point operations as the general path
+(:meth:`ModeSolver.assemble <nonideal.modes.ModeSolver.assemble>` +
+:func:`~nonideal.numeric.solve_saddle`), which stays the reference and handles singular
+systems (minimum-norm contact forces, named errors).  Once a mode structure with contacts
+has been integrated :data:`SPECIALIZE_CALLS` times, :class:`ModeFunction` compiles its whole
+system (friction columns, slip direction and powers included): the NumPy calls around the
+compiled code, not the compiled code, were the cost of an evaluation.
+
+A :class:`Motion` is the motion at one state of one mode, computed on first use: an event
+that looks only at the slip or the gap (slip stop, touch) costs one contact-kernel call, no
+solve.  The solver remembers its last solve, which explicit Runge-Kutta methods make at the
+end of every accepted step (the "first same as last" stage), so the events, the drift check
+and the trajectory samples at a step end reuse it instead of solving again.  For the other
+forms a Motion wraps their :class:`~nonideal.modes.Solution`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import symengine as se
+from scipy.linalg import lapack
+
+from ..numeric.contact_kernel import contact_kernel_of
+from ..modeling.contacts import RegularizedCoulomb
+from ..equations.dynamics import dynamics_of
+from .types import SEPARATED, SLIDE, SMOOTH, STICK, Mode, RowSpec
+from ..numeric.kernel import Compiled, SingularMatrix, max_abs
+
+__all__ = ["ModeSystem", "ModeFunction", "Motion", "system_of", "compliance_of", "SPECIALIZE_CALLS"]
+
+_dgesv, _dgetrs, _dposv = lapack.dgesv, lapack.dgetrs, lapack.dposv
+
+
+class ModeSystem:
+    """The rows of one mode structure and, for Lagrange I, their assembly by index (shared by
+    every :class:`~nonideal.modes.ModeSolver` of the model: :func:`system_of`; its only state
+    is the count of right-hand-side evaluations and the compiled :class:`ModeFunction`).
+
+    Parameters
+    ----------
+    kernel : Kernel
+    mode : Mode
+        Any mode of the structure (sliding directions are read at each evaluation).
+
+    Attributes
+    ----------
+    layout : list of RowSpec
+        The rows of the mode; ``n + j`` is the column of row ``j`` in the saddle-point matrix.
+    row_col, normal_col : dict
+        Layout position of each active kernel row / of each touching contact's normal row.
+    tangent_cols : dict
+        Layout positions of a sticking contact's slip rows (their multipliers: the friction).
+    dropped : frozenset of int
+        Layout positions of the ideal rows that repeat what the others impose, when the rows
+        are dependent (:meth:`dependent`); the reduced forms are derived without them.
+
+    Notes
+    -----
+    Evaluations take the :class:`~nonideal.modes.ModeSolver` whose buffers they use: its input
+    ``x``, its output buffer ``z = [kernel outputs | contact outputs]`` and its slip references;
+    the solver also remembers the last solve (``solver.last``).
+    """
+
+    def __init__(self, kernel, mode: Mode):
+        ck = contact_kernel_of(kernel.model)
+        rows = [i for i, r in enumerate(kernel.rows) if not r.unilateral or r.name in mode.held]
+        layout = [RowSpec("constraint", i, 0, kernel.rows[i].name) for i in rows]
+        for c, (name, cs) in enumerate(mode.contacts):
+            if cs.state == SEPARATED:
+                continue
+            layout.append(RowSpec("normal", c, 0, name))
+            if cs.state == STICK:
+                d = ck.dims[c]
+                for k in range(d):
+                    layout.append(RowSpec("tangent", c, k, f"{name}_t{k + 1}" if d > 1 else f"{name}_t"))
+        self.layout = layout
+        self.n = n = kernel.n
+        self.m = m = len(layout)
+        self.s = s = n + m
+        self.row_col = {r.index: j for j, r in enumerate(layout) if r.kind == "constraint"}
+        self.normal_col = {r.index: j for j, r in enumerate(layout) if r.kind == "normal"}
+        self.tangent_cols: dict[int, list[int]] = {}
+        for j, r in enumerate(layout):
+            if r.kind == "tangent":
+                self.tangent_cols.setdefault(r.index, []).append(j)
+        self.tangent = [j for cols in self.tangent_cols.values() for j in cols]
+        # rows whose reaction column is their gradient: dropping a dependent one keeps the motion
+        self._ideal = [r.kind == "tangent" or (r.kind == "normal" and mode.contacts[r.index][1].state == STICK)
+                       or (r.kind == "constraint" and kernel.rows[r.index].reaction_kind == "ideal")
+                       for r in layout]
+        self._dependent = None if m else False
+        self.dropped: frozenset[int] = frozenset()
+        self.contact_rows = m > len(self.row_col)
+        #: active kernel rows with a position level / a velocity level (the drift check)
+        self.drift_rows = kernel.kinematic_level(rows)
+        kd = kernel.dynamics
+        ksl = {name: sl.start for name, (sl, _) in kd.slices.items()}
+        c0 = kd.size  # the contact outputs follow the kernel's in z
+        cat = {name: c0 + start for name, start in ck.at.items()}
+        m_all = kernel.m
+        # K (Fortran order: entry (i, k) at i + k s) and r = [F; -gamma], gathered from z
+        src = [ksl["M"] + i * n + k for i in range(n) for k in range(n)]
+        dst = [i + k * s for i in range(n) for k in range(n)]
+        rsrc = list(range(ksl["F"], ksl["F"] + n))
+        self.sliding = []
+        self.tangent_slip: dict[int, int] = {}  # layout row of a sticking slip -> its U in z
+        for j, r in enumerate(layout):
+            col = n + j
+            if r.kind == "constraint":
+                g_row = [ksl["G"] + r.index * n + k for k in range(n)]
+                b_col = [ksl["B"] + k * m_all + r.index for k in range(n)]
+                rsrc.append(ksl["gamma"] + r.index)
+            elif r.kind == "normal":
+                c = r.index
+                g_row = b_col = [cat["Gn"] + c * n + k for k in range(n)]
+                rsrc.append(cat["gamma_n"] + c)
+                if mode.contacts[c][1].state in (SLIDE, SMOOTH):
+                    o, d = ck.offsets[c], ck.dims[c]
+                    # (row, contact, U in z, W in z, W's shape, mu in z, the column in K)
+                    self.sliding.append((j, c, slice(cat["U"] + o, cat["U"] + o + d),
+                                         slice(cat["W"] + o * n, cat["W"] + (o + d) * n), (d, n), cat["mu"] + c,
+                                         slice(col * s, col * s + n)))
+            else:
+                row = ck.offsets[r.index] + r.k
+                self.tangent_slip[j] = cat["U"] + row
+                g_row = b_col = [cat["W"] + row * n + k for k in range(n)]
+                rsrc.append(cat["gamma_U"] + row)
+            src += g_row + b_col
+            dst += [col + k * s for k in range(n)] + [k + col * s for k in range(n)]
+        self.src = np.array(src, dtype=np.intp)
+        self.dst = np.array(dst, dtype=np.intp)
+        self.rsrc = np.array(rsrc, dtype=np.intp)
+        self.power = slice(ksl["P"], ksl["P"] + 2) if "P" in ksl else None
+        self.calls = 0  # evaluations by solve_with_powers (the right-hand side)
+        #: the compiled :class:`ModeFunction` once the structure is hot (False: not compilable)
+        self.function = None
+
+    # ------------------------------------------------------------------ evaluation
+    def assemble(self, solver, t: float, y: np.ndarray, mode: Mode, powers: bool = False):
+        """``K`` (shape (s, s), Fortran order, friction columns included) and ``r`` at the state
+        ``y = [q, q', ...]``; with *powers* also, per unit normal force, the power of each
+        sliding contact's friction on its slip, ``F . U`` (``fcol . q'`` less the part a moving
+        support supplies: ``U = W q' + U_0``).  Without rows ``K`` is ``M``,
+        a view of the solver's buffer (the factorization copies it)."""
+        n = self.n
+        x, z = solver.x, solver.z
+        x[0] = t
+        x[1:1 + 2 * n] = y[:2 * n]
+        solver.kernel.dynamics.raw(x, solver.kz)
+        if not self.m:  # no rows: M q'' = F, read in place (M is symmetric: no transpose)
+            return z[self.src[0]:self.src[0] + n * n].reshape(n, n), z[self.rsrc], []
+        if self.contact_rows:
+            solver.ck.fn.raw(x, solver.cz)
+        K = np.zeros(self.s * self.s)
+        K[self.dst] = z[self.src]
+        r = z[self.rsrc]
+        np.negative(r[n:], out=r[n:])
+        fq = []
+        if self.sliding:
+            qd = y[n:2 * n]
+            for j, c, u, w, shape, mu, col in self.sliding:
+                cs = mode.contacts[c][1]
+                direction = solver.friction_shape(c, cs, z[u], qd)
+                fcol = cs.sigma * z[mu] * (direction @ z[w].reshape(shape))
+                K[col] -= fcol
+                if powers:
+                    fq.append(cs.sigma * z[mu] * float(direction @ z[u]))
+        K = K.reshape((self.s, self.s), order="F")
+        if self._dependent is None:
+            self.dependent(K[n:, :n])
+        return K, r, fq
+
+    def dependent(self, G: np.ndarray) -> bool:
+        """Whether the rows of the mode are dependent, so that the multipliers are statically
+        indeterminate (a ladder sticking at a rough wall and a rough floor: four rows on three
+        coordinates; a table on three legs sticking: nine on six) -- decided once, from the rows
+        *G* (shape (m, n)) of the first state that asks (the rank of a mode's rows is the same
+        at its admissible states but for singular configurations).  Also sets
+        :attr:`dropped`.  A dependent system is never factored: :meth:`factor` raises
+        :class:`~nonideal.numeric.SingularMatrix`, and the general path
+        (:meth:`ModeSolver.accelerations <nonideal.modes.ModeSolver.accelerations>`) solves it."""
+        if self._dependent is None:
+            # keep the non-ideal rows first, then every ideal row that adds to the rank
+            order = [j for j in range(self.m) if not self._ideal[j]] + [j for j in range(self.m) if self._ideal[j]]
+            tol = DEPENDENT_RTOL * max(1.0, float(np.max(np.abs(G))))
+            keep: list[int] = []
+            for j in order:
+                if np.linalg.matrix_rank(G[keep + [j]], tol=tol) == len(keep) + 1:
+                    keep.append(j)
+            self._dependent = len(keep) < self.m
+            self.dropped = frozenset(j for j in range(self.m) if j not in keep and self._ideal[j])
+        return self._dependent
+
+    def factor(self, K: np.ndarray, r: np.ndarray):
+        """``[q''; -lambda]`` and the LU factors (``None`` without rows: Cholesky of M).
+
+        Raises
+        ------
+        SingularMatrix
+            A singular system, or one with dependent rows (:meth:`dependent`), whose LU
+            factorization would give arbitrary multipliers."""
+        if self._dependent:
+            raise SingularMatrix("dependent rows: statically indeterminate multipliers")
+        if self.m == 0:
+            _, sol, info = _dposv(K, r)
+            if info == 0:
+                return sol, None, None
+            lu, piv, sol, info = _dgesv(K, r)
+        else:
+            lu, piv, sol, info = _dgesv(K, r, overwrite_a=1, overwrite_b=1)
+        # sol . sol is finite iff every entry is (barring overflow, which the exact check catches)
+        if info != 0 or not (math.isfinite(sol @ sol) or np.all(np.isfinite(sol))):
+            raise SingularMatrix("saddle-point system")
+        return sol, lu, piv
+
+    def solve(self, solver, t: float, y: np.ndarray, mode: Mode) -> np.ndarray:
+        """``[q''; -lambda]`` at the state ``y = [q, q', ...]`` (remembered as ``solver.last``).
+
+        Raises
+        ------
+        SingularMatrix
+            The general path (:meth:`ModeSolver.accelerations`) then explains or resolves it.
+        """
+        K, r, _ = self.assemble(solver, t, y, mode)
+        sol, lu, piv = self.factor(K, r)
+        solver.last = (t, y, mode, sol, lu, piv)
+        return sol
+
+    def solve_with_powers(self, solver, t: float, y: np.ndarray, mode: Mode):
+        """:meth:`solve` and the powers: ``(sol, P_reactions, P_friction, P)``, ``P_reactions``
+        of the ideal and servo reactions, ``P_friction`` of the friction forces (both
+        ``sum_j lambda_j B_j . q'`` over the rows concerned), ``P = [P_nc, P_t]`` of the forces
+        and the explicit time dependence (None when the model has none).  The right-hand side
+        of the simulation: it counts towards :data:`SPECIALIZE_CALLS`."""
+        self.calls += 1
+        K, r, fq = self.assemble(solver, t, y, mode, powers=True)
+        n = self.n
+        Bqd = y[n:2 * n] @ K[:n, n:]  # before the factorization overwrites K
+        sol, lu, piv = self.factor(K, r)
+        solver.last = (t, y, mode, sol, lu, piv)
+        lam = sol[n:]  # -lambda
+        total = -float(lam @ Bqd)
+        friction = 0.0
+        for (j, *_), p in zip(self.sliding, fq):
+            friction += float(lam[j]) * p  # the column's friction part is -fcol
+        for j in self.tangent:  # sticking: the friction's power on the (vanishing) slip
+            friction -= float(lam[j] * solver.z[self.tangent_slip[j]])
+        return sol, total - friction, friction, (solver.kz[self.power] if self.power else None)
+
+    def specialized(self, kernel, mode: Mode):
+        """The :class:`ModeFunction` of this structure once it has been evaluated
+        :data:`SPECIALIZE_CALLS` times by :meth:`solve_with_powers` (compiled then, once), or
+        None (before that, without contact rows, or for a law it does not compile)."""
+        if self.function is None and self.calls >= SPECIALIZE_CALLS and self.contact_rows and not self._dependent:
+            self.function = ModeFunction.of(kernel, self, mode)
+        return self.function or None
+
+    def compliance(self, lu: np.ndarray, piv: np.ndarray, c: int) -> float:
+        """Effective normal compliance ``b = dg''/dN`` of touching contact ``c`` from the LU
+        factors of ``K``: the lower-right block of ``K^-1`` is ``-(G M^-1 B)^-1``, so
+        ``b = -1/(K^-1)_{n+j, n+j}``."""
+        i = self.n + self.normal_col[c]
+        e = np.zeros(self.s)
+        e[i] = 1.0
+        inv = _dgetrs(lu, piv, e)[0][i]
+        return -1.0 / inv if inv != 0 else math.inf
+
+
+DEPENDENT_RTOL = 1e-7
+"""Rows whose singular values fall below this (relative to the largest entry) are dependent:
+well above the rounding of rows that are exactly dependent at admissible states, well below
+the conditioning of a well-posed mode."""
+
+SPECIALIZE_CALLS = 400
+"""Right-hand-side evaluations of a mode structure after which :class:`ModeFunction` compiles
+it: 3-6 ms of compilation for a small system (LLVM, unoptimized), ~10 us saved per
+evaluation (measured on the sphere benchmark: 19 -> 8 us), so it pays for itself after a
+few hundred evaluations -- a long simulation, or a model simulated repeatedly.  Short single
+runs keep the index path (no compilation).  Until then the phases of that mode run on the
+index path; the switch happens at the start of a phase, and the two paths agree to rounding
+(tested to 1e-13), not bit for bit."""
+
+
+class ModeFunction:
+    """The saddle-point system of one mode structure with contact rows, compiled as a whole.
+
+    One Lambdify (:class:`~nonideal.numeric.Compiled`) evaluates ``K`` in Fortran order with
+    the sliding contacts' friction columns ``dg/dq - sigma mu s W`` built in (``s`` the slip
+    direction: an input ``+-1`` for one component; ``rho U/|U|`` for two, ``rho = sign(U .
+    s_ref)`` with the slip reference an input; ``U/sqrt(|U|^2 + eps^2)`` for the smooth law),
+    ``[F; -gamma]``, ``B^T q'``, the friction part of it, the powers ``[P_nc, P_t]`` and, for
+    two slip components, the guards ``|U| - 2e-12 (1 + |q'|)`` and ``U . s_ref``: where a guard
+    fails (slip ~ 0, orientation undefined) the caller takes the index path of
+    :class:`ModeSystem`, whose :meth:`~nonideal.modes.ModeSolver.friction_shape` decides.
+
+    Parameters
+    ----------
+    kernel : Kernel
+    system : ModeSystem
+    mode : Mode
+    """
+
+    def __init__(self, kernel, system: ModeSystem, mode: Mode):
+        dyn = dynamics_of(kernel.model)
+        n, m, s = system.n, system.m, system.s
+        self.n, self.s = n, s
+        qd = dyn.qd
+        zero = se.Integer(0)
+        extra: list = []
+        self.directions = []  # (input position, layout row, contact) of one-component slips
+        self.references = []  # (input position, contact) of two-component slip references
+        guards = []
+        columns, rows, gammas, fpow = [], [], [], []
+        n_in = len(kernel.symbols)
+        for j, r in enumerate(system.layout):
+            if r.kind == "constraint":
+                row = kernel.rows[r.index]
+                g, b, gamma, fp = list(row.G), list(row.B), row.gamma, zero
+            elif r.kind == "tangent":
+                cd = dyn.contacts[r.index]
+                g = b = list(cd.W[r.k])
+                gamma = cd.gamma_U[r.k]
+                fp = cd.U[r.k]  # the friction's power on the slip, per unit force
+            else:
+                c = r.index
+                cd = dyn.contacts[c]
+                cs = mode.contacts[c][1]
+                g, gamma = list(cd.Gn), cd.gamma_n
+                b, fp = g, zero
+                if cs.state in (SLIDE, SMOOTH):
+                    U = list(cd.U)
+                    law = cd.law
+                    if cs.state == SMOOTH and law.exact:
+                        shape = [zero] * len(U)  # a frictionless contact
+                    elif cs.state == SMOOTH:
+                        if not isinstance(law, RegularizedCoulomb):
+                            raise _NotCompiled  # the epsilon-linear law is piecewise
+                        scale = se.sqrt(sum((u * u for u in U), zero) + law.eps ** 2)
+                        shape = [u / scale for u in U]
+                    elif len(U) == 1:
+                        d = se.Symbol(f"__direction{len(extra)}__")
+                        self.directions.append((n_in + len(extra), c))
+                        extra.append(d)
+                        shape = [d]
+                    else:
+                        ref = [se.Symbol(f"__reference{len(extra) + k}__") for k in range(len(U))]
+                        self.references.append((n_in + len(extra), c))
+                        extra += ref
+                        norm = se.sqrt(sum((u * u for u in U), zero))
+                        dot = sum((u * v for u, v in zip(U, ref)), zero)
+                        shape = [u * dot / (se.Abs(dot) * norm) for u in U]
+                        speed = se.sqrt(sum((v * v for v in qd), zero))
+                        guards += [norm - 2e-12 * (1 + speed), dot]
+                    fcol = [cs.sigma * cd.mu * sum((sk * w[i] for sk, w in zip(shape, cd.W)), zero)
+                            for i in range(n)]
+                    b = [gi - fi for gi, fi in zip(g, fcol)]
+                    fp = -cs.sigma * cd.mu * sum((sk * u for sk, u in zip(shape, U)), zero)
+            columns.append(b)
+            rows.append(g)
+            gammas.append(gamma)
+            fpow.append(fp)
+        K = [[dyn.M[i, k] for k in range(n)] + [columns[j][i] for j in range(m)] for i in range(n)]
+        K += [rows[j] + [zero] * m for j in range(m)]
+        # the powers per unit multiplier: of the whole reaction column (B^T q') and of its
+        # friction part, as one (2, m) block
+        outputs = {"K": [K[i][k] for k in range(s) for i in range(s)],
+                   "r": list(dyn.F) + [-gamma for gamma in gammas],
+                   "powers": [[sum((b * v for b, v in zip(col, qd)), zero) for col in columns], fpow]}
+        if kernel.powers is not None:
+            outputs["P"] = kernel.powers
+        if guards:
+            outputs["guard"] = guards
+        self.fn = Compiled(kernel.symbols + extra, outputs)
+        self.n_extra = len(extra)
+        sl = {name: sl for name, (sl, _) in self.fn.slices.items()}
+        self.K, self.r, self.powers, self.P = sl["K"], sl["r"], sl["powers"], sl.get("P")
+        self.m = m
+        # (|U| - bound, U . s_ref) of each two-component slip, by position in the outputs
+        g0 = sl["guard"].start if guards else 0
+        self.guards = [(g0 + k, g0 + k + 1) for k in range(0, len(guards), 2)]
+
+    @classmethod
+    def of(cls, kernel, system: ModeSystem, mode: Mode):
+        """The compiled function, or False when the mode has a law it does not compile."""
+        try:
+            return cls(kernel, system, mode)
+        except _NotCompiled:
+            return False
+
+    def inputs(self, solver, mode: Mode) -> np.ndarray:
+        """An input vector for a phase in *mode*: the solver's (parameters) and the sliding
+        directions of its one-component contacts."""
+        x = np.concatenate((solver.x, np.zeros(self.n_extra)))
+        for i, c in self.directions:
+            x[i] = mode.contacts[c][1].direction[0]
+        return x
+
+    def solve_with_powers(self, solver, x: np.ndarray, t: float, y: np.ndarray, mode: Mode):
+        """As :meth:`ModeSystem.solve_with_powers`, with *x* from :meth:`inputs`; None where a
+        guard fails (the index path decides there).
+
+        Raises
+        ------
+        SingularMatrix
+        """
+        n, s = self.n, self.s
+        x[0] = t
+        x[1:1 + 2 * n] = y[:2 * n]
+        for i, c in self.references:
+            ref = solver.reference.get(c)
+            if ref is None:
+                return None
+            x[i:i + len(ref)] = ref
+        out = self.fn.raw(x)
+        for margin, dot in self.guards:
+            if out[margin] <= 0.0 or out[dot] == 0.0:
+                return None
+        lu, piv, sol, info = _dgesv(out[self.K].reshape((s, s), order="F"), out[self.r])
+        if info != 0 or not (math.isfinite(sol @ sol) or np.all(np.isfinite(sol))):
+            raise SingularMatrix("saddle-point system")
+        solver.last = (t, y, mode, sol, lu, piv)
+        total, friction = out[self.powers].reshape(2, self.m) @ sol[n:]  # sol[n:] = -lambda
+        return sol, friction - total, -friction, (out[self.P] if self.P else None)
+
+
+class _NotCompiled(Exception):
+    """A mode :class:`ModeFunction` does not compile (the epsilon-linear friction law)."""
+
+
+# systems per kernel and mode structure: {(id(kernel), structure): (kernel, ModeSystem)}
+_SYSTEMS: dict[tuple, tuple] = {}
+
+
+def system_of(kernel, mode: Mode) -> ModeSystem:
+    """The (cached) :class:`ModeSystem` of *mode*'s structure for *kernel*."""
+    key = (id(kernel), mode.structure)
+    hit = _SYSTEMS.get(key)
+    if hit is None or hit[0] is not kernel:
+        if len(_SYSTEMS) > 512:
+            _SYSTEMS.clear()
+        hit = _SYSTEMS[key] = (kernel, ModeSystem(kernel, mode))
+    return hit[1]
+
+
+def cached(solver, t: float, y: np.ndarray, mode: Mode):
+    """The solver's last solve if it was at exactly this state (the same array) and mode."""
+    last = solver.last
+    if last is not None and last[1] is y and last[0] == t and last[2] is mode:
+        return last
+    return None
+
+
+class Motion:
+    """The motion in one mode at one state, computed on first use.
+
+    Parameters
+    ----------
+    solver : ModeSolver
+    mode : Mode
+    t : float
+    y : ndarray
+        ``[q, q', ...]`` (the integrator's state; not modified).
+    kin : ndarray, optional
+        The contact kernel's flat outputs at the state, when the caller has them (not modified).
+
+    Notes
+    -----
+    Read by the events (:mod:`nonideal.events`), the drift check and the trajectory samples.
+    Kinematic quantities (gap, slip, constraint residuals) need no solve.
+    """
+
+    __slots__ = ("system", "solver", "mode", "t", "y", "n", "_sol", "_lu", "_piv", "_solution", "_values",
+                 "_kin", "_obs", "_dyn")
+
+    def __init__(self, solver, mode: Mode, t: float, y: np.ndarray, kin: np.ndarray | None = None):
+        self.solver, self.mode = solver, mode
+        self.system = system_of(solver.kernel, mode)
+        self.t, self.y, self.n = t, y, self.system.n
+        self._sol = self._lu = self._piv = self._solution = None
+        self._values = self._obs = self._dyn = None
+        self._kin = kin
+        hit = cached(solver, t, y, mode)
+        if hit is not None:
+            self._sol, self._lu, self._piv = hit[3:]
+
+    @property
+    def q(self) -> np.ndarray:
+        return self.y[:self.n]
+
+    @property
+    def qd(self) -> np.ndarray:
+        return self.y[self.n:2 * self.n]
+
+    # ------------------------------------------------------------------ the motion
+    def _solved(self):
+        """``[q''; -lambda]`` (Lagrange I), or None when :attr:`_solution` holds the motion."""
+        if self._sol is None and self._solution is None:
+            if self.solver.form == "lagrange1":
+                hit = cached(self.solver, self.t, self.y, self.mode)
+                try:
+                    self._sol, self._lu, self._piv = (hit or self._solve())[3:]
+                except SingularMatrix:
+                    pass
+            if self._sol is None:  # other forms, or a singular system: the general path
+                self._solution = self.solver.solve(self.t, self.q, self.qd, self.mode, distribute=False)
+        return self._sol
+
+    def _solve(self) -> tuple:
+        """Solve at this state (the compiled system of a hot mode, else the index path); the
+        solver's :attr:`last`."""
+        system, solver, mode = self.system, self.solver, self.mode
+        function = system.function if solver.specialize else None
+        if not (function and function.solve_with_powers(solver, function.inputs(solver, mode), self.t, self.y, mode)):
+            system.solve(solver, self.t, self.y, mode)
+        return solver.last
+
+    @property
+    def qdd(self) -> np.ndarray:
+        """Accelerations, shape (n_q,)."""
+        sol = self._solved()
+        return sol[:self.n] if sol is not None else self._solution.qdd
+
+    @property
+    def values(self) -> np.ndarray:
+        """Multipliers of the mode's rows (``system.layout`` order; for dependent rows the
+        admissible distribution with the widest margins, computed only when asked for)."""
+        if self._values is None:
+            sol = self._solved()
+            if sol is None and self._solution.particular:
+                self._solution = self.solver.solve(self.t, self.q, self.qd, self.mode)
+            self._values = -sol[self.n:] if sol is not None else self._solution.values
+        return self._values
+
+    def multiplier(self, row: int) -> float:
+        """Multiplier of kernel row *row* (0 when it is not active)."""
+        j = self.system.row_col.get(row)
+        return 0.0 if j is None else float(self.values[j])
+
+    def normal(self, c: int) -> float:
+        """Normal force of contact *c* (0 when separated)."""
+        j = self.system.normal_col.get(c)
+        return 0.0 if j is None else float(self.values[j])
+
+    def friction(self, c: int) -> np.ndarray:
+        """Friction force of contact *c* (its slip components)."""
+        cs = self.mode.contacts[c][1]
+        if cs.state == STICK:
+            return self.values[self.system.tangent_cols[c]]
+        if cs.state in (SLIDE, SMOOTH):
+            s = self.solver.friction_shape(c, cs, self.slip(c), self.qd)
+            return -cs.sigma * self.mu(c) * self.normal(c) * s
+        return np.zeros(self.solver.ck.dims[c])
+
+    def compliance(self, c: int) -> float:
+        """Effective normal compliance ``b = dg''/dN`` of touching contact *c* (Painleve's
+        paradox where it reaches zero while sliding)."""
+        self._solved()
+        if self._lu is not None:
+            return self.system.compliance(self._lu, self._piv, c)
+        sol = self._solution or self.solver.solve(self.t, self.q, self.qd, self.mode)
+        return compliance_of(sol.M, sol.Bm, sol.Gm, self.system.normal_col[c])
+
+    def _dynamics(self, name: str) -> np.ndarray:
+        """Output *name* of the kernel (``M, F, G, gamma, B``) at this state, flat."""
+        kd = self.solver.kernel.dynamics
+        if self._dyn is None:
+            self._dyn = kd.raw(self.solver.input(self.t, self.q, self.qd), np.empty(kd.size))
+        return self._dyn[kd.slices[name][0]]
+
+    def force_scale(self) -> float:
+        """``1 + max |F|`` (generalized forcing): the scale of force-like event tolerances."""
+        return 1.0 + max_abs(self._dynamics("F"))
+
+    def constraint_acc(self, row: int) -> float:
+        """``f'' = G q'' + gamma`` of kernel row *row* (a released unilateral constraint)."""
+        n = self.n
+        return float(self._dynamics("G")[row * n:(row + 1) * n] @ self.qdd + self._dynamics("gamma")[row])
+
+    # ------------------------------------------------------------------ kinematics
+    @property
+    def kin(self) -> np.ndarray:
+        """The contact kernel's flat outputs at this state (a copy)."""
+        if self._kin is None:
+            ck = self.solver.ck
+            self._kin = ck.fn.raw(self.solver.input(self.t, self.q, self.qd), np.empty(ck.size))
+        return self._kin
+
+    def slip(self, c: int) -> np.ndarray:
+        ck = self.solver.ck
+        o = ck.at["U"] + ck.offsets[c]
+        return self.kin[o:o + ck.dims[c]]
+
+    def gap(self, c: int) -> float:
+        return float(self.kin[self.solver.ck.at["gap"] + c])
+
+    def gap_rate(self, c: int) -> float:
+        return float(self.kin[self.solver.ck.at["gap_rate"] + c])
+
+    def mu(self, c: int) -> float:
+        return float(self.kin[self.solver.ck.at["mu"] + c])
+
+    def mu_s(self, c: int) -> float:
+        return float(self.kin[self.solver.ck.at["mu_s"] + c])
+
+    def gap_acc(self, c: int) -> float:
+        """``g'' = Gn q'' + gamma_n`` of contact *c*."""
+        ck, n = self.solver.ck, self.n
+        o = ck.at["Gn"] + c * n
+        return float(self.kin[o:o + n] @ self.qdd + self.kin[ck.at["gamma_n"] + c])
+
+    def slip_acc(self, c: int) -> np.ndarray:
+        """``U' = W q'' + gamma_U`` of contact *c*."""
+        ck, n = self.solver.ck, self.n
+        o, d = ck.offsets[c], ck.dims[c]
+        W = self.kin[ck.at["W"] + o * n:ck.at["W"] + (o + d) * n].reshape(d, n)
+        return W @ self.qdd + self.kin[ck.at["gamma_U"] + o:ck.at["gamma_U"] + o + d]
+
+    @property
+    def observables(self) -> dict:
+        """The kernel's observables (energies, constraint residuals ``pos``, ``vel``), copied."""
+        if self._obs is None:
+            out = self.solver.kernel.observables(self.solver.input(self.t, self.q, self.qd))
+            self._obs = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in out.items()}
+        return self._obs
+
+    def contact_record(self, c: int) -> tuple:
+        """``(state label, N, F, U, gap, mu_s)`` of contact *c* for a trajectory sample."""
+        at, kin = self.solver.ck.at, self.kin
+        return (self.mode.contacts[c][1].label(), self.normal(c), self.friction(c), self.slip(c),
+                kin[at["gap"] + c], kin[at["mu_s"] + c])
+
+
+def compliance_of(M: np.ndarray, B: np.ndarray, G: np.ndarray, j: int) -> float:
+    """Effective normal compliance ``b = 1/((G M^-1 B)^-1)_jj`` of row *j* of a saddle-point
+    system ``M a = F + B lambda``, ``G a + gamma = 0`` (the lower-right block of the inverse of
+    ``[[M, -B], [G, 0]]`` is ``(G M^-1 B)^-1``); 0 when that matrix is singular."""
+    n, m = M.shape[0], G.shape[0]
+    K = np.zeros((n + m, n + m))
+    K[:n, :n] = M
+    K[:n, n:] = -B
+    K[n:, :n] = G
+    e = np.zeros(n + m)
+    e[n + j] = 1.0
+    try:
+        inv_jj = np.linalg.solve(K, e)[n + j]
+    except np.linalg.LinAlgError:
+        return 0.0
+    return float(1.0 / inv_jj) if inv_jj != 0 else math.inf

@@ -1,0 +1,98 @@
+"""Compiled contact quantities: gaps, normal rows, slip velocities and their Jacobians.
+
+For every contact ``c`` (in model order) the callable returns ``gap[c]``, ``gap_rate[c]``,
+``Gn[c]`` (``dg/dq``), ``gamma_n[c]`` (``g'' = Gn q'' + gamma_n``), ``mu[c]``, ``mu_s[c]``;
+and for every slip component ``r`` (contacts' components concatenated; ``offsets[c]`` is the
+first of contact ``c``) ``U[r]``, ``W[r]`` (``dU/dq'``), ``gamma_U[r]`` (``U' = W q'' + gamma_U``).
+``at[name]`` is where each output starts in the flat output array (``W`` row-major, shape
+``(components, n_q)``), for the index-based fast path of :mod:`nonideal.mode_system`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..equations.dynamics import dynamics_of
+from ..modeling.model import Model
+from .kernel import Compiled
+
+__all__ = ["ContactKernel", "contact_kernel_of"]
+
+
+class ContactKernel:
+    def __init__(self, model: Model):
+        dyn = dynamics_of(model)
+        self.model = model
+        self.data = dyn.contacts
+        self.names = [c.name for c in self.data]
+        self.index = {c.name: i for i, c in enumerate(self.data)}
+        self.dims = [len(c.U) for c in self.data]
+        self.offsets = list(np.cumsum([0] + self.dims[:-1])) if self.data else []
+        self.n = dyn.n
+        self.params = dyn.params
+        symbols = [dyn.t] + dyn.q + dyn.qd + dyn.params
+        if not self.data:
+            self.fn = None
+            self.size = 0
+            self.at = {}
+            return
+        outputs = {
+            "gap": [c.gap for c in self.data],
+            "gap_rate": [c.gap_rate for c in self.data],
+            "Gn": [list(c.Gn) for c in self.data],
+            "gamma_n": [c.gamma_n for c in self.data],
+            "mu": [c.mu for c in self.data],
+            "mu_s": [c.mu_s for c in self.data],
+            "U": [u for c in self.data for u in c.U],
+            "W": [list(w) for c in self.data for w in c.W],
+            "gamma_U": [g for c in self.data for g in c.gamma_U],
+        }
+        self.fn = Compiled(symbols, outputs)
+        self.size = self.fn.size
+        self.at = {name: sl.start for name, (sl, _) in self.fn.slices.items()}
+
+    def __bool__(self) -> bool:
+        return bool(self.data)
+
+    def __call__(self, x: np.ndarray) -> dict:
+        return self.fn(x)
+
+    def frictionless(self, params: np.ndarray) -> frozenset[int]:
+        """The contacts with Coulomb's law whose ``mu`` and ``mu_static`` vanish identically
+        (whatever the state) at the parameter values *params*, shape (n_parameters,).
+
+        Examples
+        --------
+        >>> from nonideal import gallery
+        >>> from nonideal.numeric.kernel import parameter_vector
+        >>> model = gallery.load("block-on-incline")
+        >>> ck = contact_kernel_of(model)
+        >>> ck.frictionless(parameter_vector(model))
+        frozenset()
+        >>> ck.frictionless(parameter_vector(model, {"mu": 0, "mu_s": 0}))
+        frozenset({0})
+        """
+        values = {p: float(v) for p, v in zip(self.params, params)}
+
+        def zero(expr) -> bool:
+            value = expr.subs(values)
+            return value.is_Number and float(value) == 0.0
+        return frozenset(c for c, d in enumerate(self.data) if d.law.exact and zero(d.mu) and zero(d.mu_s))
+
+    def slip(self, out: dict, c: int) -> np.ndarray:
+        o = self.offsets[c]
+        return out["U"][o:o + self.dims[c]]
+
+
+_CACHE: dict[int, tuple[Model, ContactKernel]] = {}
+
+
+def contact_kernel_of(model: Model) -> ContactKernel:
+    hit = _CACHE.get(id(model))
+    if hit is not None and hit[0] is model:
+        return hit[1]
+    k = ContactKernel(model)
+    if len(_CACHE) > 32:
+        _CACHE.clear()
+    _CACHE[id(model)] = (model, k)
+    return k

@@ -1,0 +1,393 @@
+"""Compiled numerics: symbolic matrices -> fast callables, and the linear solves.
+
+The symbolic equations are compiled once with SymEngine's ``Lambdify`` (common-subexpression
+elimination, LLVM backend when available) into one callable per purpose, taking the flat
+input ``[t, q, q', parameters, (auxiliaries)]``.  The linear system of the motion,
+
+    [[A, -B], [G, 0]] [a; mu] = [b; -gamma],
+
+is solved numerically at each evaluation with LAPACK (Cholesky when there are no multipliers,
+LU otherwise); nothing is inverted symbolically, so operating points where a symbolic LU
+would have a removable singularity are harmless.
+
+* :class:`Compiled` -- one Lambdify over named outputs (scalars, vectors, matrices).  With
+  the LLVM backend it compiles first without optimization (4-5x faster to build, ~1.2-2x
+  slower to evaluate) and recompiles with full optimization after :data:`TIER_UP_CALLS`
+  evaluations, when the faster evaluation has paid for it; both give bit-identical results
+  (no fast-math).
+* :class:`Kernel` -- the model-level functions (``M, F`` and every constraint row; energies,
+  residuals) shared by the simulation, the reactions and the checks.
+* :class:`FormSystem` -- the compiled equations of one :class:`~nonideal.eom.EquationsOfMotion`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import symengine as se
+from scipy.linalg import lapack
+
+from ..equations.dynamics import ConstraintRow, Dynamics, dynamics_of
+from ..equations.eom import EquationsOfMotion
+from ..errors import ModelError, did_you_mean
+from ..modeling.model import Model
+
+__all__ = ["Compiled", "Kernel", "FormSystem", "solve_saddle", "SingularMatrix", "kernel_of", "max_abs"]
+
+
+class SingularMatrix(Exception):
+    """Raised by :func:`solve_saddle`; callers turn it into a named, actionable error."""
+
+
+def _flatten(value):
+    if isinstance(value, se.DenseMatrix):
+        return list(value), value.shape
+    if isinstance(value, (list, tuple)):
+        if value and isinstance(value[0], (list, tuple)):
+            rows, cols = len(value), len(value[0])
+            return [x for row in value for x in row], (rows, cols)
+        return list(value), (len(value),)
+    return [value], ()
+
+
+TIER_UP_CALLS = 100_000
+"""Evaluations after which a :class:`Compiled` is recompiled with full LLVM optimization.
+
+Measured on the benchmark systems (``benchmarks/RESULTS.md``): full optimization costs
+30-250 ms more to build for 100-1000 outputs and saves 0.2-2 us per evaluation, so it pays
+off after roughly 10^5 evaluations -- far more than a typical simulation needs."""
+
+_LLVM = bool(getattr(se, "have_llvm", False))
+
+
+def _lambdify(inputs, exprs, optimize: bool):
+    """SymEngine Lambdify with CSE; LLVM without optimization unless *optimize*.
+
+    The inputs are renamed first: SymEngine's common-subexpression elimination names its
+    temporaries ``x0, x1, ...`` and avoids only the names that occur in the expressions, so an
+    input called ``x1`` that no output uses would be overwritten.
+    """
+    safe = [se.Symbol(f"__in{i}__") for i in range(len(inputs))]
+    rename = dict(zip(inputs, safe))
+    exprs = [se.sympify(e).xreplace(rename) for e in exprs]
+    inputs = safe
+    if _LLVM and not optimize:
+        try:
+            return se.Lambdify(inputs, exprs, cse=True, backend="llvm", opt_level=0)
+        except (TypeError, ValueError, RuntimeError):  # pragma: no cover - older SymEngine
+            pass
+    return se.Lambdify(inputs, exprs, cse=True)
+
+
+class Compiled:
+    """A single Lambdify over named outputs.
+
+    Parameters
+    ----------
+    inputs : list of se.Symbol
+    outputs : mapping name -> expression, list, nested list or se.DenseMatrix
+    optimize : bool, optional
+        Compile with full optimization at once (default: only after
+        :data:`TIER_UP_CALLS` evaluations, see the module docstring).
+
+    Calling it with a flat float array returns a dict of NumPy views: scalars as 0-d values,
+    vectors with shape (n,), matrices with shape (rows, cols).
+    """
+
+    def __init__(self, inputs: Sequence, outputs: Mapping[str, object], optimize: bool = False):
+        self.inputs = list(inputs)
+        self.slices: dict[str, tuple[slice, tuple]] = {}
+        flat: list = []
+        for name, value in outputs.items():
+            items, shape = _flatten(value)
+            self.slices[name] = (slice(len(flat), len(flat) + len(items)), shape)
+            flat.extend(items)
+        self.size = len(flat)
+        self._exprs = [se.sympify(x) for x in flat]
+        # tiering only matters for the LLVM backend
+        self._calls = 0 if (_LLVM and not optimize) else -1
+        self.fn = _lambdify(self.inputs, self._exprs, optimize or not _LLVM) if flat else None
+        if self.fn is None:
+            self._calls = -1
+        self.out = np.zeros(self.size)
+        self._views = self.views(self.out)
+        self._scalars = [(name, sl.start) for name, (sl, shape) in self.slices.items() if not shape]
+
+    def _tier_up(self) -> None:
+        self.fn = _lambdify(self.inputs, self._exprs, True)
+        self._calls = -1
+
+    def raw(self, x: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """The flat output array: written into *out* (contiguous, shape ``(size,)``) when
+        given, else into a reused buffer (copy it to keep it)."""
+        if out is None:
+            out = self.out
+        if self.fn is not None:
+            self.fn.unsafe_real(x, out)
+            if self._calls >= 0:
+                self._calls += 1
+                if self._calls >= TIER_UP_CALLS:
+                    self._tier_up()
+        return out
+
+    def batch(self, X: np.ndarray) -> np.ndarray:
+        """Evaluate at every row of *X* (shape ``(N, inputs)``) in one call: shape ``(N, size)``."""
+        if self.fn is None or len(X) == 0:
+            return np.zeros((len(X), self.size))
+        return np.asarray(self.fn(np.ascontiguousarray(X, dtype=float)), dtype=float).reshape(len(X), self.size)
+
+    def __call__(self, x: np.ndarray) -> dict[str, np.ndarray]:
+        """Evaluate; returns views into a reused buffer (valid until the next call)."""
+        flat = self.raw(x)
+        out = self._views.copy()
+        for name, i in self._scalars:
+            out[name] = float(flat[i])
+        return out
+
+    def views(self, flat: np.ndarray) -> dict[str, np.ndarray]:
+        """Named views into a flat output array (*flat* of shape ``(size,)``, or ``(N, size)``
+        from :meth:`batch`: then every view has the leading dimension N); scalars are
+        ``None`` in a single output (see :meth:`__call__`)."""
+        lead = flat.shape[:-1]
+        return {name: flat[..., sl].reshape(lead + shape) if (shape or lead) else None
+                for name, (sl, shape) in self.slices.items()}
+
+
+def max_abs(v: np.ndarray) -> float:
+    """``max |v_i|`` of a small finite vector (0 when empty): in Python, 2-4x faster than the
+    NumPy reductions at the sizes of a mechanical state (the scales of tolerances)."""
+    return max(map(abs, v.tolist()), default=0.0)
+
+
+_dposv, _dgesv = lapack.dposv, lapack.dgesv
+
+
+def solve_saddle(A: np.ndarray, b: np.ndarray, B: np.ndarray | None = None,
+                 G: np.ndarray | None = None, gamma: np.ndarray | None = None):
+    """Solve ``A a - B mu = b``, ``G a = -gamma`` for ``(a, mu)``.
+
+    Without rows: Cholesky (LAPACK ``dposv``), LU if ``A`` is not positive definite.  With
+    rows: LU of the saddle-point matrix ``[[A, B], [G, 0]]`` for ``(a, -mu)`` (``dgesv``,
+    in place on a Fortran-ordered work array).  Returns fresh arrays.
+
+    Raises
+    ------
+    SingularMatrix
+        When the system has no unique solution.
+    """
+    k = A.shape[0]
+    if G is None or G.shape[0] == 0:
+        _, x, info = _dposv(A, b)
+        if info == 0:
+            return x, np.empty(0)
+        _, _, x, info = _dgesv(A, b)
+        if info != 0:
+            raise SingularMatrix("mass matrix")
+        return x, np.empty(0)
+    m = G.shape[0]
+    s = k + m
+    # [[A, B], [G, 0]] [a; -mu] = [b; -gamma]: B enters unnegated (one operation less)
+    K = np.zeros((s, s), order="F")
+    K[:k, :k] = A
+    K[:k, k:] = B
+    K[k:, :k] = G
+    rhs = np.empty(s)
+    rhs[:k] = b
+    np.negative(gamma, out=rhs[k:])
+    _, _, x, info = _dgesv(K, rhs, overwrite_a=1, overwrite_b=1)
+    # x . x is finite iff every entry is (barring overflow, which the exact check catches)
+    if info != 0 or not (math.isfinite(x @ x) or np.all(np.isfinite(x))):
+        raise SingularMatrix("saddle-point system")
+    # a badly conditioned system is as bad as a singular one for the user
+    mu = x[k:]
+    np.negative(mu, out=mu)
+    return x[:k], mu
+
+
+@dataclass
+class Inputs:
+    """Layout of the flat input vector ``[t, q, q', parameters]``."""
+
+    n: int
+    n_p: int
+
+    def make(self, params: np.ndarray, extra: int = 0) -> np.ndarray:
+        x = np.zeros(1 + 2 * self.n + self.n_p + extra)
+        x[1 + 2 * self.n:1 + 2 * self.n + self.n_p] = params
+        return x
+
+
+def parameter_vector(model: Model, overrides: Mapping[str, float] | None = None) -> np.ndarray:
+    values = dict(model.parameter_values)
+    for k, v in (overrides or {}).items():
+        if k not in values:
+            raise ModelError(f"parameter override '{k}': no such parameter{did_you_mean(k, values)}")
+        values[k] = float(v)
+    return np.array(list(values.values()), dtype=float)
+
+
+class Kernel:
+    """Model-level compiled functions: ``M``, ``F`` and every constraint row; observables.
+
+    Parameters
+    ----------
+    model : Model
+
+    Notes
+    -----
+    ``dynamics(x)`` returns ``M (n, n)``, ``F (n,)``, ``G (m, n)``, ``gamma (m,)``, ``B (n, m)``
+    for all ``m`` constraint rows of the model; the simulation selects the rows of the current
+    mode by index.  ``observables(x)`` returns ``T, T0, V``, the power of the non-potential
+    forces ``P_nc``, the explicit-time power ``P_t = dV/dt - dT/dt`` and the position/velocity
+    residuals of every row.
+    """
+
+    def __init__(self, model: Model):
+        self.model = model
+        dyn = dynamics_of(model)
+        self.dyn = dyn
+        self.n = dyn.n
+        self.rows: list[ConstraintRow] = dyn.rows()
+        self.row_index = {r.name: i for i, r in enumerate(self.rows)}
+        self.symbols = [dyn.t] + dyn.q + dyn.qd + dyn.params
+        self.layout = Inputs(dyn.n, len(dyn.params))
+        n, m = dyn.n, len(self.rows)
+        M = dyn.M
+        Mu = [M[i, j] for i in range(n) for j in range(n)]
+        F = list(dyn.F)
+        G = [[r.G[j] for j in range(n)] for r in self.rows]
+        gamma = [r.gamma for r in self.rows]
+        B = [[r.B[j] for r in self.rows] for j in range(n)] if m else []
+        outputs = {"M": [Mu[i * n:(i + 1) * n] for i in range(n)], "F": F}
+        if m:
+            outputs.update(G=G, gamma=gamma, B=B)
+        self.has_nc_forces = any(se.sympify(q) != 0 for q in dyn.Q_nc)
+        P_t = se.diff(dyn.V, dyn.t) - se.diff(dyn.T, dyn.t)
+        self.explicit_time = P_t != 0
+        #: ``[P_nc, P_t]``: powers of the non-potential forces and of the explicit time
+        #: dependence (None when both vanish identically)
+        self.powers = None
+        if self.has_nc_forces or self.explicit_time:
+            self.powers = [sum((a * b for a, b in zip(dyn.Q_nc, dyn.qd)), se.Integer(0)), P_t]
+            outputs["P"] = self.powers
+        self.dynamics = Compiled(self.symbols, outputs)
+        self.m = m
+        self._obs = None
+
+    @property
+    def observables(self) -> Compiled:
+        if self._obs is None:
+            dyn = self.dyn
+            qd = dyn.qd
+            P_nc = sum((a * b for a, b in zip(dyn.Q_nc, qd)), se.Integer(0))
+            P_t = se.diff(dyn.V, dyn.t) - se.diff(dyn.T, dyn.t)
+            pos = [r.position if r.position is not None else se.Integer(0) for r in self.rows]
+            vel = [r.velocity if r.velocity is not None else se.Integer(0) for r in self.rows]
+            outputs = {"T": dyn.T, "T0": dyn.T0, "V": dyn.V, "P_nc": P_nc, "P_t": P_t}
+            if self.rows:
+                outputs.update(pos=pos, vel=vel)
+            self._obs = Compiled(self.symbols, outputs)
+        return self._obs
+
+    def state_input(self, t: float, q, qd, params: np.ndarray) -> np.ndarray:
+        x = self.layout.make(params)
+        x[0] = t
+        x[1:1 + self.n] = q
+        x[1 + self.n:1 + 2 * self.n] = qd
+        return x
+
+    def kinematic_level(self, rows: Sequence[int]):
+        """Indices of rows with a position residual (holonomic) and with a velocity residual."""
+        pos = [i for i in rows if self.rows[i].position is not None]
+        vel = [i for i in rows if self.rows[i].velocity is not None]
+        return pos, vel
+
+
+_KERNELS: dict[int, tuple[Model, Kernel]] = {}
+
+
+def kernel_of(model: Model) -> Kernel:
+    """The (cached) compiled kernel of *model*."""
+    hit = _KERNELS.get(id(model))
+    if hit is not None and hit[0] is model:
+        return hit[1]
+    k = Kernel(model)
+    if len(_KERNELS) > 32:
+        _KERNELS.clear()
+    _KERNELS[id(model)] = (model, k)
+    return k
+
+
+class FormSystem:
+    """The compiled equations of one :class:`EquationsOfMotion`.
+
+    ``solve(x)`` returns ``(a, mu, qdd)``: the form's unknowns, its multipliers, and the
+    accelerations of all coordinates.  :attr:`last` holds the compiled outputs of the last
+    call (views, valid until the next): ``A, b, R, r`` and, with multipliers, ``B, G,
+    gamma``, and the *extra_outputs*.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+    extra : sequence of str
+        Names of further inputs, after the parameters (e.g. slip directions).
+    extra_outputs : mapping name -> expressions, optional
+        Further expressions of the inputs compiled with the equations (e.g. the chart test
+        of Lagrange II, :func:`nonideal.charts.chart_outputs`); their names are kept in the
+        attribute of that name.
+    """
+
+    def __init__(self, eom: EquationsOfMotion, extra: Sequence = (),
+                 extra_outputs: Mapping[str, object] | None = None):
+        self.eom = eom
+        dyn: Dynamics = dynamics_of(eom.model)
+        # extra inputs (e.g. slip directions of sliding contacts) follow the parameters
+        base = [dyn.t] + dyn.q + dyn.qd + dyn.params + [se.Symbol(str(s)) for s in extra]
+        self.n_base = len(base)
+        self.aux_shapes = []
+        aux_syms = []
+        stage1 = {}
+        for i, aux in enumerate(eom.auxiliaries):
+            stage1[f"K{i}"] = aux.K
+            stage1[f"Y{i}"] = aux.Y
+            self.aux_shapes.append(aux.symbols.shape)
+            aux_syms.extend(list(aux.symbols))
+        self.stage1 = Compiled(base, stage1) if stage1 else None
+        self.aux_names = [(f"K{i}", f"Y{i}") for i in range(len(eom.auxiliaries))]
+        b = eom.Qf_ - eom.c_
+        outputs = {"A": eom.A_, "b": list(b), "R": eom.R_, "r": list(eom.r_)}
+        self.m = len(eom.multipliers)
+        if self.m:
+            outputs.update(B=eom.B_, G=eom.G_, gamma=list(eom.gamma_))
+        self.extra_outputs = tuple(extra_outputs or ())
+        outputs.update(extra_outputs or {})
+        self.k = eom.k
+        self.main = Compiled(base + aux_syms, outputs)
+        self.x = np.zeros(len(base) + len(aux_syms))
+        self.last: dict[str, np.ndarray] = {}
+
+    def solve(self, x_base: np.ndarray):
+        x = self.x
+        x[:self.n_base] = x_base
+        if self.stage1 is not None:
+            s1 = self.stage1(x_base)
+            off = self.n_base
+            for kname, yname in self.aux_names:
+                # LAPACK directly: np.linalg.solve costs ~4 us more per call on small blocks
+                _, _, X, info = _dgesv(s1[kname], s1[yname])
+                if info != 0:
+                    raise SingularMatrix("dependent-velocity block")
+                x[off:off + X.size] = X.ravel()
+                off += X.size
+        out = self.last = self.main(x)
+        if self.k == 0 and self.m == 0:  # no freedom left: the motion is the program itself
+            return np.empty(0), np.empty(0), np.array(out["r"], dtype=float)
+        if self.m:
+            a, mu = solve_saddle(out["A"], out["b"], out["B"], out["G"], out["gamma"])
+        else:
+            a, mu = solve_saddle(out["A"], out["b"])
+        qdd = out["R"] @ a + out["r"]
+        return a, mu, qdd

@@ -1,0 +1,706 @@
+"""The hybrid simulation: a plain loop around a SciPy ODE solver that restarts at every switch.
+
+Design (as recommended for hybrid systems): integrate one smooth phase with a fixed mode,
+stepping the solver by hand; after each accepted step evaluate the event functions of the
+mode (:mod:`nonideal.events`), locate the earliest sign change on the dense output with
+Brent's method, apply the switch (impact law, mode selection of :mod:`nonideal.switching`)
+and restart the solver from the new state.
+
+State: ``y = [q, q', W]`` -- all coordinates and velocities (whatever formalism evaluates the
+accelerations) and, when they are not identically zero, the work integrals of the
+non-potential forces, the ideal/servo reactions, the explicit time dependence and friction.
+Integrating the works with the motion gives the energy balance to integrator precision.
+
+Constraint drift: the constraints are enforced at acceleration level; after every accepted
+step the position and velocity residuals of the active rows are checked and, above ``1e-10``
+(relative), the state is projected back (least-norm Newton) and the solver restarted.  We
+chose projection over Baumgarte stabilization because it adds no artificial dynamics and no
+time-scale parameter; at tight tolerances it is rarely triggered, so it costs little.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
+from scipy.optimize import brentq
+
+from ..numeric.consistency import complete_state, project_state
+from ..errors import IntegrationFailed, MechanicsError, ModelError, PainleveParadox
+from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, transition
+from ..modeling.model import Model
+from ..modes.system import Motion
+from ..modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
+from ..modes.solver import ModeSolver
+from ..modes.diagnosis import weakest_reactions
+from ..numeric.kernel import SingularMatrix, kernel_of, max_abs, parameter_vector
+from ..modes.switching import effective_compliance, impact, select_mode, validate_state
+from .trajectory import Sample, Trajectory
+
+__all__ = ["simulate", "Simulation"]
+
+# completed initial states: {id(kernel): (kernel, {(given values, parameters): (q, q')})}
+_INITIAL: dict[int, tuple] = {}
+
+SOLVERS = {"DOP853": DOP853, "RK45": RK45, "RK23": RK23, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
+PROJECTION_TOL = 1e-10
+N_WORK = 5  # active (non-potential), reactions, explicit time, friction, impacts
+WORK_ATOL = 10.0
+"""The work integrals in the state only feed the energy balance; at the motion's absolute
+tolerance they shortened its steps wherever a power vanishes up to rounding (ideal
+reactions, sticking friction: the integrator then resolves noise).  Ten times looser, they
+leave the steps to the motion (knife chain n = 6, 5 s at rtol 1e-8: 54 -> 39 steps; looser
+still: 37) while every test's bound on the energy balance and on the drift of the
+constraints holds (100 times looser breaks the car's: its sticking rows drift more with
+longer steps)."""
+
+
+class Simulation:
+    """A configured simulation of one model (immutable inputs; :meth:`run` returns a Trajectory).
+
+    Parameters
+    ----------
+    model : Model
+    form : str
+        Formalism evaluating the accelerations (the motion does not depend on it).
+    parameters : mapping, optional
+        Overrides of parameter values (no recompilation).
+    rtol, atol, method, max_step : optional
+        Integrator settings; default from the model's ``[simulation]``.
+    independent : tuple of str, optional
+        Independent coordinates for the reduced forms (Lagrange II: those of the first chart;
+        ``diagnostics["chart_changes"]`` counts the changes of chart, :mod:`nonideal.charts`).
+    detect_jam : bool
+        Watch the effective normal compliance of sliding contacts (Painleve's paradox).
+    specialize : bool
+        Compile the saddle-point system of a mode with contacts once its structure has been
+        integrated :data:`~nonideal.mode_system.SPECIALIZE_CALLS` times (faster; it agrees
+        with the index path to rounding).  ``False`` keeps the index path, so that a run
+        gives bit-identical results whatever ran before it in the process.
+    """
+
+    def __init__(self, model: Model, form: str = "lagrange1",
+                 parameters: Mapping[str, float] | None = None, rtol: float | None = None,
+                 atol: float | None = None, method: str | None = None,
+                 max_step: float | None = None, independent=None, max_events: int = 10_000,
+                 detect_jam: bool = True, specialize: bool = True):
+        self.model = model
+        self.kernel = kernel_of(model)
+        self.params = parameter_vector(model, parameters)
+        self.solver = ModeSolver(self.kernel, self.params, form, independent, specialize)
+        sim = model.simulation
+        self.rtol = rtol if rtol is not None else sim.rtol
+        self.atol = atol if atol is not None else sim.atol
+        self.method = method or sim.method
+        if self.method not in SOLVERS:
+            raise ModelError(f"--method: unknown integrator '{self.method}'; choose one of {', '.join(SOLVERS)}")
+        self.max_step = max_step if max_step is not None else (sim.max_step or np.inf)
+        self.max_events = max_events
+        self.detect_jam = detect_jam
+        k = self.kernel
+        self.contacts = bool(self.solver.ck)
+        self.track = bool(k.rows) or k.has_nc_forces or k.explicit_time or self.contacts
+        self.n = k.n
+
+    # ------------------------------------------------------------------ right-hand side
+    def rhs(self, mode: Mode):
+        """The right-hand side ``f(t, y)`` of a phase in *mode*, ``y = [q, q', W]``.
+
+        Lagrange I evaluates the mode's :class:`~nonideal.mode_system.ModeSystem` (assembled
+        by index; the powers of the reactions from the same solve); the other forms, and a
+        singular system, take the general path of :meth:`ModeSolver.accelerations`.
+        """
+        if self.solver.form == "lagrange1":
+            return self._lagrange1_rhs(mode)
+        return self._general_rhs(mode)
+
+    def _lagrange1_rhs(self, mode: Mode):
+        n, solver = self.n, self.solver
+        system = solver.system(mode)
+        general = self._general_rhs(mode)  # singular: minimum-norm contact forces or a named error
+
+        if not self.track:
+            def fun(t, y):
+                try:
+                    sol = system.solve(solver, t, y, mode)
+                except SingularMatrix:
+                    return general(t, y)
+                return np.concatenate((y[n:2 * n], sol[:n]))
+            return fun
+
+        # the compiled system, once this mode structure has been integrated long enough
+        function = system.specialized(self.kernel, mode) if solver.specialize else None
+        x = function.inputs(solver, mode) if function else None
+
+        def fun(t, y):
+            try:
+                out = function.solve_with_powers(solver, x, t, y, mode) if function else None
+                if out is None:
+                    out = system.solve_with_powers(solver, t, y, mode)
+            except SingularMatrix:
+                return general(t, y)
+            sol, P_R, P_f, P = out
+            dy = np.empty_like(y)
+            dy[:n] = y[n:2 * n]
+            dy[n:2 * n] = sol[:n]
+            # works: active, reactions, explicit time, friction, impacts (changed at switches)
+            dy[2 * n:] = (0.0, P_R, 0.0, P_f, 0.0) if P is None else (P[0], P_R, P[1], P_f, 0.0)
+            return dy
+        return fun
+
+    def _general_rhs(self, mode: Mode):
+        n, solver, track = self.n, self.solver, self.track
+        kernel = self.kernel
+
+        if not track:
+            def fun(t, y):
+                qdd = solver.accelerations(t, y[:n], y[n:2 * n], mode)[0]
+                return np.concatenate((y[n:2 * n], qdd))
+            return fun
+
+        powers = kernel.has_nc_forces or kernel.explicit_time
+        friction = self.contacts and any(cs.state != SEPARATED for _, cs in mode.contacts)
+
+        def fun(t, y):
+            q, qd = y[:n], y[n:2 * n]
+            dy = np.empty_like(y)
+            dy[:n] = qd
+            if friction:
+                qdd, values, layout, out, cout = solver.accelerations(t, q, qd, mode)
+                if values is None:  # a reduced form: recover the multipliers
+                    sol = solver.solve(t, q, qd, mode)
+                    R = sol.M @ sol.qdd - sol.F
+                    qdd, P_f = sol.qdd, sum(float(cf.F @ cf.U) for cf in sol.contacts.values() if cf.F.size)
+                else:
+                    P_f = solver.friction_power(mode, layout, values, cout)
+                    R = out["M"] @ qdd - out["F"]
+            else:
+                qdd, values, layout, out, cout = solver.accelerations(t, q, qd, mode)
+                P_f = 0.0
+                R = out["M"] @ qdd - out["F"] if layout else None
+            dy[n:2 * n] = qdd
+            # power of the total generalized reaction R = M q'' - F, split into the friction's
+            # power on the slips, sum F . U (never positive), and the rest (ideal and servo
+            # reactions, and what moving supports put in through friction)
+            dy[2 * n + 1] = (R @ qd - P_f) if R is not None else 0.0
+            dy[2 * n + 3] = P_f
+            dy[2 * n + 4] = 0.0  # impacts change it only at switches
+            if powers:
+                P = kernel.dynamics(solver.input(t, q, qd))["P"]
+                dy[2 * n], dy[2 * n + 2] = P
+            else:
+                dy[2 * n] = dy[2 * n + 2] = 0.0
+            return dy
+        return fun
+
+    # ------------------------------------------------------------------ events
+    def events(self, mode: Mode, t: float, y: np.ndarray) -> list[Event]:
+        out: list[Event] = []
+        for i in self.solver.unilateral:
+            name = self.kernel.rows[i].name
+            if name in mode.held:
+                out.append(Release("release", name, i))
+            else:
+                out.append(Touch("contact", name, i))
+        for c, (name, cs) in enumerate(mode.contacts):
+            bilateral = self.solver.ck.data[c].bilateral
+            if cs.state == SEPARATED:
+                out.append(ContactTouch("touch", name, c))
+                continue
+            if not bilateral:
+                out.append(Lift("lift-off", name, c))
+            elif cs.state in (SLIDE, SMOOTH):
+                out.append(Lift("normal-sign", name, c, sigma=cs.sigma))
+            if cs.state == STICK:
+                out.append(SlipStart("slip", name, c))
+            elif cs.state == SLIDE:
+                d = self.solver.ck.dims[c]
+                direction = cs.direction[0] if d == 1 else 1.0
+                out.append(SlipStop("slip-stop", name, c, direction=direction))
+                if self.detect_jam and not bilateral:
+                    out.append(Jam("jam", name, c))
+        return out
+
+    def _tolerance(self, ev: Event, motion: Motion) -> float:
+        if isinstance(ev, (Release, Lift, SlipStart)):
+            return 1e-9 * motion.force_scale()
+        if isinstance(ev, Jam):
+            return 1e-12
+        if isinstance(ev, SlipStop):
+            return 1e-10 * (1.0 + max_abs(motion.qd))
+        return 1e-10 * (1.0 + max_abs(motion.q))
+
+    # ------------------------------------------------------------------ switching
+    def _switch(self, t: float, y: np.ndarray, mode: Mode, ev: Event):
+        n = self.n
+        q, qd = y[:n].copy(), y[n:2 * n].copy()
+        y = y.copy()
+        record = ev.record(t)
+        if isinstance(ev, Jam):
+            state = dict(zip(self.model.coordinates, q))
+            state.update({c + "'": v for c, v in zip(self.model.coordinates, qd)})
+            from ..modes.switching import critical_friction
+            mu_c = critical_friction(self.solver, t, q, qd, mode, ev.name)
+            raise PainleveParadox(
+                f"Painleve paradox at contact '{ev.name}': while sliding, its effective normal "
+                "compliance b = dg''/dN reached zero -- the normal force grows without bound and "
+                "beyond this state sliding has no consistent continuation under rigid-body "
+                "Coulomb friction (tangential impact / dynamic jamming)", t, state,
+                {"critical friction coefficient": f"{mu_c:.6g}" if mu_c else "none",
+                 "mode": mode.label()})
+        if isinstance(ev, (Touch, ContactTouch)):
+            rest = {i: c.restitution for i, c in self._restitution.items()}
+            e_before = self._energy(t, q, qd)
+            if isinstance(ev, Touch):
+                vel = self.kernel.observables(self.solver.input(t, q, qd))["vel"][ev.row]
+                qd, impulses = impact(self.solver, t, q, qd, [ev.row], rest)
+            else:
+                vel = self.solver.ck(self.solver.input(t, q, qd))["gap_rate"][ev.row]
+                qd, impulses = impact(self.solver, t, q, qd, (), rest, contacts_hit=[ev.name])
+            loss = self._energy(t, q, qd) - e_before
+            record.update(normal_velocity=float(vel), impulses=impulses, energy_change=float(loss))
+            if self.track:
+                y[2 * n + 4] += loss  # work of the impulsive reactions
+            new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8, previous=mode,
+                              concerned=ev.name)
+        else:
+            new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8,
+                              exclude=mode if ev.excludes_current else None, previous=mode,
+                              concerned=ev.name)
+        q, qd = self._project(new, t, q, qd)
+        y[:n], y[n:2 * n] = q, qd
+        record["type"] = ev.outcome(mode, new)
+        changes = {name: kind for (name, a), (_, b) in zip(mode.contacts, new.contacts)
+                   if (kind := transition(a, b))}
+        if set(changes) - {ev.name}:
+            record["changes"] = changes
+        record["mode"] = new.label()
+        return y, new, record
+
+    def _project(self, mode: Mode, t, q, qd):
+        """Project onto the constraint rows of *mode* (constraints, closed gaps, stick rows)."""
+        rows = self.solver.rows(mode)
+        if rows:
+            q, qd = project_state(self.kernel, rows, t, q, qd, self.params)
+        if not self.contacts:
+            return q, qd
+        ck = self.solver.ck
+        for _ in range(4):
+            cout = ck(self.solver.input(t, q, qd))
+            Gp, rp, Gv, rv = [], [], [], []
+            for c, (name, cs) in enumerate(mode.contacts):
+                if cs.state == SEPARATED:
+                    continue
+                o = ck.offsets[c]
+                Gp.append(cout["Gn"][c].copy())
+                rp.append(float(cout["gap"][c]))
+                Gv.append(cout["Gn"][c].copy())
+                rv.append(float(cout["gap_rate"][c]))
+                if cs.state == STICK:
+                    for k in range(ck.dims[c]):
+                        Gv.append(cout["W"][o + k].copy())
+                        rv.append(float(cout["U"][o + k]))
+            if not Gp:
+                break
+            scale = 1.0 + max_abs(q)
+            if max(map(abs, rp + rv)) < 1e-14 * scale:
+                break
+            out = self.kernel.dynamics(self.solver.input(t, q, qd)) if rows else None
+            for i in rows:  # keep the constraints while correcting the contacts
+                r = self.kernel.rows[i]
+                if r.position is not None:
+                    Gp.append(out["G"][i].copy())
+                    rp.append(0.0)
+                if r.velocity is not None:
+                    Gv.append(out["G"][i].copy())
+                    rv.append(0.0)
+            q = q + np.linalg.lstsq(np.array(Gp), -np.array(rp), rcond=None)[0]
+            qd = qd + np.linalg.lstsq(np.array(Gv), -np.array(rv), rcond=None)[0]
+        return q, qd
+
+    def _work_tolerances(self):
+        """Absolute tolerances of the state ``[q, q', W]``: *atol* for the motion and
+        :data:`WORK_ATOL` times it for the work integrals (a user's array is kept)."""
+        if np.ndim(self.atol):
+            return self.atol
+        atol = np.full(2 * self.n + N_WORK, float(self.atol))
+        atol[2 * self.n:] *= WORK_ATOL
+        return atol
+
+    def _energy(self, t, q, qd) -> float:
+        """Jacobi's energy ``T2 - T0 + V`` at a state."""
+        x = self.solver.input(t, q, qd)
+        M = self.kernel.dynamics(x)["M"]
+        obs = self.kernel.observables(x)
+        return float(0.5 * qd @ M @ qd - obs["T0"] + obs["V"])
+
+    @property
+    def _restitution(self):
+        return {self.kernel.row_index[c.name]: c for c in self.model.constraints if c.unilateral}
+
+    # ------------------------------------------------------------------ main loop
+    def initial_state(self, initial: Mapping[str, float] | None = None):
+        """The initial ``(q, q')``: the model's values with the overrides *initial*, completed
+        and checked by :func:`~nonideal.consistency.complete_state` (a pure function of the
+        model, the parameters and the values: memoized)."""
+        given = dict(self.model.numeric_initial())
+        given.update(initial or {})
+        numbers = all(isinstance(v, (int, float, np.number)) for v in given.values())
+        key = (tuple(sorted(given.items())), self.params.tobytes()) if numbers else None
+        hit = _INITIAL.get(id(self.kernel))
+        if hit is not None and hit[0] is self.kernel and key in hit[1]:
+            q, qd = hit[1][key]
+            return q.copy(), qd.copy()
+        q, qd, closed = complete_state(self.kernel, given, self.params, self.model.t0)
+        if key is not None:
+            if hit is None or hit[0] is not self.kernel or len(hit[1]) > 256:
+                if len(_INITIAL) > 32:
+                    _INITIAL.clear()
+                hit = _INITIAL[id(self.kernel)] = (self.kernel, {})
+            hit[1][key] = (q.copy(), qd.copy())
+        return q, qd
+
+    def run(self, t_end: float | None = None, times: Sequence[float] | None = None,
+            initial: Mapping[str, float] | None = None, stop_on=None) -> Trajectory:
+        """Simulate from the model's initial state to ``t_end``.
+
+        Parameters
+        ----------
+        t_end : float, optional
+            Default: the model's ``[simulation] t_end`` (or the last of *times*).
+        times : sequence of float, optional
+            Sample exactly at these times (dense output); default: every accepted step and
+            every event.
+        initial : mapping, optional
+            Overrides of initial values.
+        stop_on : set of str, optional
+            Event types (``"slip"``, ``"stick"``, ``"reverse"``, ``"lift-off"``, ``"release"``...;
+            see :mod:`nonideal.events`) that end the run at the event (the last sample is the
+            state at the event, before the switch).  An event whose kind is listed stops
+            before the next mode is selected; the others stop when the selected switch is of
+            a listed type.
+
+        Returns
+        -------
+        Trajectory
+
+        Raises
+        ------
+        IntegrationFailed, MechanicsError (PainleveParadox), InconsistentInitialConditions
+        """
+        model = self.model
+        t0 = model.t0
+        if times is not None:
+            times = np.array([float(s) for s in times])
+            if not np.all(np.isfinite(times)):
+                raise ModelError("--times: the sample times must be finite numbers")
+            if times.size > 1 and np.any(np.diff(times) <= 0):
+                raise ModelError("--times: the sample times must be strictly increasing "
+                                 f"(got {', '.join(f'{v:g}' for v in times)})")
+            if times.size and times[0] < t0:
+                raise ModelError(f"--times: {times[0]} is before t0 = {t0}")
+        if t_end is None:
+            if times is not None and times.size:
+                t_end = float(times[-1])
+            else:
+                t_end = model.simulation.t_end
+        if t_end is None:
+            raise ModelError("no end time: give [simulation] t_end in the model or --t-end",
+                             None if model.source == "<api>" else model.source)
+        if times is not None and times.size and times[-1] > t_end:
+            t_end = float(times[-1])
+        n = self.n
+        q0, qd0 = self.initial_state(initial)
+        validate_state(self.solver, t0, q0, qd0)
+        mode = select_mode(self.solver, t0, q0, qd0)
+        q0, qd0 = self._project(mode, t0, q0, qd0)
+        y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))
+        atol = self._work_tolerances() if self.track else self.atol
+        samples: list[Sample] = []
+        events_log: list[dict] = []
+        next_time = 0
+
+        def emit(t, yy, md, motion=None):
+            samples.append(Sample(float(t), np.array(yy, dtype=float), md, motion))
+
+        # the state at the start of a phase is sampled at the top of the loop, with its motion
+        pending = times is None or bool(times.size and abs(times[0] - t0) <= 1e-14 * max(1, abs(t0)))
+        if pending and times is not None:
+            next_time = 1
+        t = t0
+        h = None
+        tiny = 0
+        stopped = False
+        projections = 0
+        residual_max = {"position": 0.0, "velocity": 0.0}
+        Solver = SOLVERS[self.method]
+        solver = self.solver
+        changes = solver.charts.changes if solver.charts is not None else 0
+        while t < t_end:
+            fun = self.rhs(mode)
+            events = self.events(mode, t, y)
+            drift = solver.system(mode).drift_rows
+            kwargs = dict(rtol=self.rtol, atol=atol, max_step=self.max_step)
+            if h is not None and self.method not in ("LSODA",):
+                kwargs["first_step"] = min(h, t_end - t)
+            motion = Motion(solver, mode, t, y)
+            if pending:
+                emit(t, y, mode, motion)
+                pending = False
+            solver.set_references(mode, motion)
+            ode = Solver(fun, t, y, t_end, **kwargs)
+            g_prev = [ev.value(motion) for ev in events]
+            tols = [self._tolerance(ev, motion) for ev in events]
+            armed = [g > tols[k] for k, g in enumerate(g_prev)]
+            restart = False
+            while not restart:
+                message = ode.step()
+                if ode.status == "failed":
+                    self._explain_failure(ode, mode)
+                    raise IntegrationFailed(ode.t, mode.label(), message or "step failed",
+                                            None if model.source == "<api>" else model.source)
+                t_old, t_new = ode.t_old, ode.t
+                if solver.charts is not None:  # Lagrange II: change charts at accepted states
+                    solver.charts.settle(mode, t_new, ode.y[:n], ode.y[n:2 * n])
+                h = t_new - t_old
+                tiny = tiny + 1 if h < 1e-9 * max(t_end - t0, 1e-300) else 0
+                if tiny > 2000:
+                    self._explain_failure(ode, mode)
+                    raise IntegrationFailed(
+                        t_new, mode.label(), "the step size collapsed below 1e-9 of the time span for "
+                        "2000 steps: the right-hand side is not smooth here (a nonlinear constraint at "
+                        "a singular point, or a friction law without a sticking mode at zero slip)",
+                        None if model.source == "<api>" else model.source)
+                # the integrator's last evaluation was at (t_new, ode.y): the motion reuses it
+                motion = Motion(solver, mode, t_new, ode.y)
+                g_new = [ev.value(motion) for ev in events]
+                hits = []
+                dense = None
+                for k, ev in enumerate(events):
+                    if armed[k] and g_prev[k] > 0 >= g_new[k]:
+                        shift = 0.0
+                    elif not armed[k] and g_new[k] < -tols[k]:
+                        shift = tols[k] / 2
+                    else:
+                        continue
+                    dense = dense or ode.dense_output()
+
+                    def g(s, ev=ev, shift=shift):
+                        return ev.value(Motion(solver, mode, s, dense(s))) + shift
+                    a, b = t_old, t_new
+                    if g(a) <= 0:
+                        te = a
+                    else:
+                        te = brentq(g, a, b, xtol=1e-15 * max(1.0, abs(b)), rtol=8.9e-16, maxiter=200)
+                    hits.append((te, k))
+                if hits:
+                    te, k = min(hits)
+                    ye = dense(te)
+                    if times is None:
+                        emit(te, ye, mode)  # the state at the event, before the switch
+                    else:
+                        next_time = self._sample_dense(dense, t_old, te, times, next_time, mode, emit)
+                    # stop on the kind the event watches, or on what the switch would do
+                    switched = None if stop_on and events[k].kind in stop_on else \
+                        self._switch(te, ye, mode, events[k])
+                    if switched is None or (stop_on and switched[2]["type"] in stop_on):
+                        if times is not None:
+                            emit(te, ye, mode)
+                        record = events[k].record(te) if switched is None else switched[2]
+                        record["mode"] = mode.label()
+                        record["stopped"] = True
+                        events_log.append(record)
+                        t, y = te, ye
+                        times = None
+                        stopped = True
+                        break
+                    y, new_mode, record = switched
+                    events_log.append(record)
+                    if len(events_log) > self.max_events:
+                        raise IntegrationFailed(te, mode.label(), f"more than {self.max_events} mode "
+                                                "switches (chattering or Zeno behaviour)",
+                                                None if model.source == "<api>" else model.source)
+                    mode = new_mode
+                    t = te
+                    if times is None:
+                        pending = True
+                    elif next_time < times.size and abs(times[next_time] - t) <= 1e-14 * max(1, abs(t)):
+                        pending = True
+                        next_time += 1
+                    restart = True
+                    continue
+                for k in range(len(events)):
+                    if not armed[k] and g_new[k] > tols[k]:
+                        armed[k] = True
+                if solver.reference:  # the slip-stop values change with the reference only
+                    solver.set_references(mode, motion)
+                    g_new = [ev.value(motion) for ev in events]
+                g_prev = g_new
+                # drift control
+                res_p, res_v = self._residuals(motion, mode, drift)
+                residual_max["position"] = max(residual_max["position"], res_p)
+                residual_max["velocity"] = max(residual_max["velocity"], res_v)
+                scale = 1.0 + max_abs(ode.y[:2 * n])
+                if max(res_p, res_v) > PROJECTION_TOL * scale:
+                    if times is not None:
+                        next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times,
+                                                       next_time, mode, emit)
+                    y = ode.y.copy()
+                    q, qd = self._project(mode, t_new, y[:n], y[n:2 * n])
+                    y[:n], y[n:2 * n] = q, qd
+                    projections += 1
+                    t = t_new
+                    pending = times is None
+                    restart = True
+                    continue
+                if times is None:
+                    emit(t_new, ode.y, mode, motion)
+                else:
+                    next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times, next_time,
+                                                   mode, emit)
+                t, y = t_new, ode.y
+                if ode.status == "finished":
+                    break
+            if stopped or (not restart and ode.status == "finished"):
+                break
+        if pending:  # a switch exactly at the end
+            emit(t, y, mode)
+        if times is not None:
+            while next_time < times.size and times[next_time] <= t + 1e-12 * max(1, abs(t)):
+                emit(times[next_time], y, mode)
+                next_time += 1
+        diagnostics = {
+            "projections": projections,
+            "events": len(events_log),
+            "method": self.method,
+            "rtol": self.rtol,
+            "atol": self.atol,
+            "form": self.solver.form,
+            "stabilization": "coordinate projection when residual > 1e-10 (relative)",
+        }
+        if solver.charts is not None:
+            diagnostics["chart_changes"] = solver.charts.changes - changes
+        return Trajectory.from_samples(self, samples, events_log, diagnostics, residual_max)
+
+    def _explain_failure(self, ode, mode: Mode) -> None:
+        """If a sliding contact is at the edge of Painleve's paradox, or the chart of Lagrange
+        II is singular, say so instead."""
+        n = self.n
+        charts = self.solver.charts
+        reason = charts.explain(mode, ode.t, ode.y[:n], ode.y[n:2 * n]) if charts is not None else None
+        if reason:
+            raise IntegrationFailed(ode.t, mode.label(), reason,
+                                    None if self.model.source == "<api>" else self.model.source)
+        self._explain_servo(ode, mode)
+        for name, cs in mode.contacts:
+            if cs.state != SLIDE:
+                continue
+            try:
+                b = effective_compliance(self.solver, ode.t, ode.y[:n], ode.y[n:2 * n], mode, name)
+            except Exception:  # pragma: no cover
+                continue
+            if b <= 1e-6:
+                state = dict(zip(self.model.coordinates, ode.y[:n]))
+                raise PainleveParadox(
+                    f"Painleve paradox at contact '{name}': the integration stalled while the "
+                    f"effective normal compliance b = {b:.3g} of the sliding contact vanished -- the "
+                    "normal force grows without bound (dynamic jamming)", ode.t, state)
+
+    def _explain_servo(self, ode, mode: Mode) -> None:
+        """A servo- or quasi-ideal constraint whose reaction stops realizing it (``G M^-1 B``
+        singular: the control direction turns orthogonal, in the metric of M, to the program's
+        gradient, and the control force grows without bound) stalls the integration: say so,
+        naming the constraints (exit code 3)."""
+        kernel, n = self.kernel, self.n
+        rows = self.solver.rows(mode)
+        if not any(kernel.rows[i].reaction_kind != "ideal" for i in rows):
+            return
+        q, qd = ode.y[:n], ode.y[n:2 * n]
+        out = kernel.dynamics(self.solver.input(ode.t, q, qd))
+        M, G, B = (np.asarray(out[k], dtype=float) for k in ("M", "G", "B"))
+        try:
+            relative, w = weakest_reactions(M, G[rows], B[:, rows])
+        except np.linalg.LinAlgError:  # pragma: no cover - M singular is diagnosed elsewhere
+            return
+        if relative > 1e-6:
+            return
+        involved = [kernel.rows[i].name for k, i in enumerate(rows)
+                    if abs(w[k]) > 1e-3 * np.max(np.abs(w)) and kernel.rows[i].reaction_kind != "ideal"]
+        state = dict(zip(self.model.coordinates, q))
+        state.update({c + "'": float(v) for c, v in zip(self.model.coordinates, qd)})
+        raise MechanicsError(
+            f"the servo/quasi-ideal constraint(s) {', '.join(repr(x) for x in involved)} stop being "
+            f"realizable at t = {ode.t:.10g}: G M^-1 B is singular there (smallest singular value "
+            f"{relative:.2g} of its scale) -- the control direction has turned orthogonal, in the "
+            "metric of M, to the program's gradient, and the control force needed grows without "
+            "bound; the programmed motion cannot be continued with this control", ode.t, state)
+
+    @staticmethod
+    def _residuals(motion: Motion, mode: Mode, drift):
+        """Position and velocity residuals of the mode's rows at a state; *drift* = ``(pos,
+        vel)``, the active kernel rows with a position / velocity level."""
+        pos, vel = drift
+        rp = rv = 0.0
+        if pos or vel:
+            obs = motion.observables
+            rp = float(np.abs(obs["pos"][pos]).max()) if pos else 0.0
+            rv = float(np.abs(obs["vel"][vel]).max()) if vel else 0.0
+        for c, (name, cs) in enumerate(mode.contacts):
+            if cs.state == SEPARATED:
+                continue
+            rp = max(rp, abs(motion.gap(c)))
+            rv = max(rv, abs(motion.gap_rate(c)))
+            if cs.state == STICK:
+                rv = max(rv, max_abs(motion.slip(c)))
+        return rp, rv
+
+    @staticmethod
+    def _sample_dense(dense, t_old, t_new, times, next_time, mode, emit):
+        """Emit the requested *times* in ``[t_old, t_new]`` from the dense output; the index
+        of the next one."""
+        while next_time < times.size and times[next_time] <= t_new:
+            if times[next_time] >= t_old:
+                emit(times[next_time], dense(times[next_time]), mode)
+            next_time += 1
+        return next_time
+
+
+def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | None = None,
+             form: str = "lagrange1", **options) -> Trajectory:
+    """Simulate *model*: the hybrid motion with exact switching.
+
+    Parameters
+    ----------
+    model : Model
+    t_end : float, optional
+    times : sequence of float, optional
+        Output exactly at these times.
+    form : str
+        Formalism used to evaluate the accelerations.
+    **options
+        ``parameters``, ``rtol``, ``atol``, ``method``, ``max_step``, ``independent``,
+        ``initial``, ``detect_jam``, ``specialize``.
+
+    Returns
+    -------
+    Trajectory
+
+    Examples
+    --------
+    >>> from nonideal import gallery, simulate
+    >>> traj = simulate(gallery.load("chaplygin-sleigh"), t_end=1.0, times=[0.0, 1.0])
+    >>> traj.t.tolist()
+    [0.0, 1.0]
+    """
+    allowed = ("parameters", "rtol", "atol", "method", "max_step", "independent", "max_events",
+               "detect_jam", "specialize", "initial", "stop_on")
+    unknown = [k for k in options if k not in allowed]
+    if unknown:
+        from ..errors import did_you_mean
+        raise ModelError([f"simulate: unknown option '{k}'{did_you_mean(k, allowed)}; allowed: "
+                          + ", ".join(allowed) for k in unknown])
+    initial = options.pop("initial", None)
+    stop_on = options.pop("stop_on", None)
+    sim = Simulation(model, form=form, **options)
+    return sim.run(t_end=t_end, times=times, initial=initial, stop_on=stop_on)
