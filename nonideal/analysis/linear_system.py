@@ -25,7 +25,7 @@ from ..modeling.symbols import to_se, to_sp
 
 __all__ = ["LinearKernel", "kernel_of", "Partition", "partition", "tangent", "state_matrices",
            "saddle", "solve", "Point", "NEWTON_STEPS", "check_parameters", "clean",
-           "parse_state", "natural_frequencies"]
+           "parse_state", "natural_frequencies", "ignorable_set"]
 
 NEWTON_STEPS = 40
 
@@ -439,3 +439,34 @@ def natural_frequencies(pt: "Point", q, v, part: "Partition", kept) -> list:
     if np.any(w2 <= 0):
         return []
     return sorted(float(np.sqrt(x)) for x in w2)
+
+
+def ignorable_set(A: np.ndarray, candidates) -> list:
+    """The largest subset S of the state indices *candidates* that nothing outside S depends
+    on (the columns of S vanish in the other rows) and whose own block is nilpotent (no
+    dependence cycle within S: a cyclic coordinate, a velocity feeding only cyclic
+    coordinates).  Dropping S removes only zero eigenvalues and leaves the rest closed."""
+    A = np.asarray(A, float)
+    tol = 1e-9 * max(1.0, float(np.abs(A).max(initial=0.0)))
+    S = set(candidates)
+    while True:
+        changed = True
+        while changed:
+            changed = False
+            rows = [i for i in range(A.shape[0]) if i not in S]
+            for idx in sorted(S):
+                if rows and np.abs(A[rows, idx]).max() > tol:
+                    S.discard(idx)
+                    changed = True
+                    break
+        order = sorted(S)
+        if not order:
+            return []
+        adj = (np.abs(A[np.ix_(order, order)]) > tol).astype(int)   # adj[i, j]: i depends on j
+        reach = adj.copy()
+        for _ in range(len(order)):
+            reach = np.minimum(1, reach + reach @ adj)
+        on_cycle = [order[i] for i in range(len(order)) if reach[i, i]]
+        if not on_cycle:
+            return order
+        S -= set(on_cycle)

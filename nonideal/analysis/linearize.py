@@ -55,8 +55,8 @@ import sympy as sp
 from ..errors import ModelError, NotAnEquilibrium, did_you_mean
 from ..modeling.model import Model
 from .linear_system import (NEWTON_STEPS, LinearKernel, Partition, Point, check_parameters, clean,
-                            kernel_of, natural_frequencies, parse_state, partition, saddle, solve,
-                            state_matrices)
+                            ignorable_set, kernel_of, natural_frequencies, parse_state, partition,
+                            saddle, solve, state_matrices)
 from .routh import analyse, controllability
 
 __all__ = ["Linearization", "linearize", "ABOUT"]
@@ -238,24 +238,6 @@ def _rates(pt: Point, q, v, kept_coords, rated):
     return np.concatenate([v[kept_coords], a[rated]]), a, lam, b
 
 
-def _closed(A: np.ndarray, candidates, n_coords: int) -> list:
-    """The largest subset S of the state indices *candidates* whose columns of A vanish outside
-    the coordinate rows (the first *n_coords*) of S: nothing but the kinematics of S depends on
-    S, so S can be dropped (its eigenvalues apart, zero) and the rest is closed."""
-    sc = max(1.0, float(np.abs(A).max(initial=0.0)))
-    S = set(candidates)
-    changed = True
-    while changed:
-        changed = False
-        rows = [i for i in range(A.shape[0]) if not (i in S and i < n_coords)]
-        for idx in sorted(S):
-            if not _zero(A[rows, idx], sc):
-                S.discard(idx)
-                changed = True
-                break
-    return sorted(S)
-
-
 def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic: Sequence[str] = (),
               controls: Sequence[str] = (), keep: Sequence[str] = (), independent: Sequence[str] | None = None,
               exact: bool = False, t: float | None = None) -> Linearization:
@@ -371,7 +353,7 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
     # dropped: the ignorable coordinates and the velocities nothing depends on that drift
     # (a programmed translation: their acceleration does not vanish and enters nothing)
     drifting = [nI + part.vel_I.index(j) for j in free_velocities if not _zero(a[[j]], scale)]
-    drop = _closed(A, [part.coords_I.index(j) for j in ignorable] + drifting, nI)
+    drop = ignorable_set(A, [part.coords_I.index(j) for j in ignorable] + drifting)
     ignorable = [j for j in ignorable if part.coords_I.index(j) in drop]
     family = []
     if about == "steady":
@@ -434,7 +416,7 @@ def _ignorable(pt: Point, q, v, part: Partition, names_q) -> tuple[list, list]:
         _, _, b = pt.motion(qq, vv)
         A, _ = state_matrices(b, part, pt.n, True, pt.k.model)
         cand = list(range(nI + len(part.vel_I)))
-        zero = set(_closed(A, cand, nI))
+        zero = set(ignorable_set(A, cand))
         found = zero if found is None else found & zero
     coords = sorted(part.coords_I[i] for i in found if i < nI)
     vels = sorted(part.vel_I[i - nI] for i in found if i >= nI)

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..modeling.model import Model
-from .linear_system import Point, check_parameters, clean, kernel_of, partition, state_matrices
+from .linear_system import Point, check_parameters, clean, ignorable_set, kernel_of, partition, state_matrices
 from .routh import analyse
 
 __all__ = ["ProgramLinearization", "linearize_program"]
@@ -181,18 +181,9 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
         Bs.append(B)
     As, Bs = np.array(As), np.array(Bs)
     variables = [names_q[j] for j in part.coords_I] + [names_v[j] for j in part.vel_I]
-    # ignorable coordinates: columns vanishing (outside their own rows) all along
-    sc = max(1.0, float(np.abs(As).max(initial=0.0)))
-    S = {idx for idx, j in enumerate(part.coords_I) if names_q[j] not in keep}
-    changed = True
-    while changed:
-        changed = False
-        rows = [i for i in range(As.shape[1]) if i not in S]
-        for idx in sorted(S):
-            if np.abs(As[:, rows, idx]).max(initial=0.0) > 1e-9 * sc:
-                S.discard(idx)
-                changed = True
-                break
+    # ignorable coordinates: nothing else depends on them, all along the motion
+    cand = [idx for idx, j in enumerate(part.coords_I) if names_q[j] not in keep]
+    S = set(ignorable_set(np.abs(As).max(axis=0), cand))
     stay = [i for i in range(As.shape[1]) if i not in S]
     As = np.array([clean(A[np.ix_(stay, stay)]) for A in As])
     Bs = np.array([clean(B[stay]) for B in Bs])
@@ -211,7 +202,7 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
         exponent = float(np.log(np.linalg.norm(Phi, 2)) / span)
     else:
         exponent = 0.0
-    tol = 1e-6 * max(1.0, sc)
+    tol = 1e-6 * max(1.0, float(np.abs(As).max(initial=0.0)))
     if alpha > tol and mu.max() <= 0 or (alpha > tol and beta < np.log(1e3)):
         verdict = "asymptotically stable"
         reason = (f"int mu(A) dt <= -alpha (t - t0) + beta on the interval with alpha = {alpha:.6g} > 0, "
