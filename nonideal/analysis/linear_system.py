@@ -127,19 +127,9 @@ class LinearKernel:
         return res
 
 
-_KERNELS: dict = {}
-
-
 def kernel_of(model: Model, controls: Sequence[str]) -> LinearKernel:
-    key = (id(model), tuple(controls))
-    hit = _KERNELS.get(key)
-    if hit is not None and hit[0] is model:
-        return hit[1]
-    k = LinearKernel(model, controls)
-    if len(_KERNELS) > 32:
-        _KERNELS.clear()
-    _KERNELS[key] = (model, k)
-    return k
+    """The compiled :class:`LinearKernel` of *model* with *controls* (cached on the model)."""
+    return model.cached(("linear kernel", tuple(controls)), lambda: LinearKernel(model, controls))
 
 
 def _src(model: Model):
