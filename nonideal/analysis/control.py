@@ -23,7 +23,8 @@ import sympy as sp
 from ..errors import ModelError
 from ..modeling.model import Model
 
-__all__ = ["Regulator", "lqr", "closed_loop_model", "simulate_closed_loop", "weights"]
+__all__ = ["Regulator", "lqr", "closed_loop_model", "simulate_closed_loop", "weights", "ProgramRegulator",
+           "program_lqr"]
 
 
 @dataclass(frozen=True)
@@ -194,3 +195,69 @@ def simulate_closed_loop(model: Model, lin, reg: Regulator, perturbation: Mappin
     for key in lin.dependent:       # completed from the constraints by the simulation
         initial.pop(key, None)
     return simulate(cl.replace(initial=initial), t_end=t_end, times=times, **options)
+
+
+@dataclass(frozen=True)
+class ProgramRegulator:
+    """Optimal stabilization of a programmed motion on ``[t0, T]``: the differential Riccati
+    equation ``-P' = A^T P + P A - P B R^-1 B^T P + Q``, ``P(T) = 0``, integrated backwards
+    along ``A(t), B(t)``; ``K(t) = R^-1 B^T P(t)``; ``V = x^T P(t) x`` is the Lyapunov (Bellman)
+    function (Manglieva & Beknazarov 2022, (3.35)--(3.37)).
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+    P : ndarray, shape (N, n_x, n_x)
+    K : ndarray, shape (N, n_u, n_x)
+    exponent_open, exponent_closed : float
+        ``ln |Phi(T, t0)| / (T - t0)`` of the open and the closed loop (``A - B K``).
+    """
+
+    t: np.ndarray
+    P: np.ndarray
+    K: np.ndarray
+    Q: np.ndarray
+    R: np.ndarray
+    exponent_open: float
+    exponent_closed: float
+
+
+def program_lqr(prog, Q=1.0, R=1.0) -> ProgramRegulator:
+    """The finite-horizon LQR of a :class:`~nonideal.analysis.program.ProgramLinearization`
+    with controls (see :class:`ProgramRegulator`)."""
+    from scipy.integrate import solve_ivp
+    from scipy.interpolate import CubicSpline
+
+    if not prog.controls:
+        raise ModelError("optimal stabilization: the programmed motion has no controls; name them "
+                         "with --controls")
+    t = np.asarray(prog.t)
+    n, m = prog.A.shape[1], prog.B.shape[2]
+    Q = np.eye(n) * Q if np.ndim(Q) == 0 else np.asarray(Q, float)
+    R = np.eye(m) * R if np.ndim(R) == 0 else np.asarray(R, float)
+    Ri = np.linalg.inv(R)
+    As = CubicSpline(t, prog.A.reshape(len(t), -1), axis=0)
+    Bs = CubicSpline(t, prog.B.reshape(len(t), -1), axis=0)
+
+    def riccati(s, p):
+        A, B = As(s).reshape(n, n), Bs(s).reshape(n, m)
+        P = p.reshape(n, n)
+        return -(A.T @ P + P @ A - P @ B @ Ri @ B.T @ P + Q).ravel()
+
+    sol = solve_ivp(riccati, (t[-1], t[0]), np.zeros(n * n), t_eval=t[::-1], rtol=1e-10, atol=1e-12,
+                    method="DOP853")
+    P = sol.y.T[::-1].reshape(len(t), n, n)
+    P = 0.5 * (P + P.transpose(0, 2, 1))
+    K = np.einsum("ij,tkj,tkl->til", Ri, prog.B, P)
+    Ks = CubicSpline(t, K.reshape(len(t), -1), axis=0)
+
+    def exponent(closed: bool) -> float:
+        def rhs(s, y):
+            A = As(s).reshape(n, n)
+            if closed:
+                A = A - Bs(s).reshape(n, m) @ Ks(s).reshape(m, n)
+            return (A @ y.reshape(n, n)).ravel()
+        y = solve_ivp(rhs, (t[0], t[-1]), np.eye(n).ravel(), rtol=1e-10, atol=1e-12, method="DOP853").y[:, -1]
+        return float(np.log(np.linalg.norm(y.reshape(n, n), 2)) / (t[-1] - t[0]))
+
+    return ProgramRegulator(t, P, K, Q, R, exponent(False), exponent(True))

@@ -58,6 +58,8 @@ class ProgramLinearization:
         ``ln |Phi(T, t0)| / (T - t0)``.
     controllability_rank : ndarray of int, shape (N,)
         Rank of ``W(t)``.
+    W : ndarray, shape (N, n_x, n_x * n_u), or None
+        ``W(t) = [L1, ..., Ln]`` at the samples (with controls).
     verdict, reason : str
     """
 
@@ -78,6 +80,7 @@ class ProgramLinearization:
     ignorable: tuple = ()
     dependent: tuple = ()
     frozen: dict = field(default_factory=dict)
+    W: np.ndarray | None = None
 
     def to_dict(self) -> dict:
         n = len(self.variables)
@@ -222,6 +225,7 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
         reason = (f"perturbations neither grow nor decay on the interval (exponent {exponent:.3g}): "
                   "the first approximation does not decide")
     ranks = np.zeros(len(times), int)
+    W = None
     if controls and nx:
         bs = CubicSpline(times, Bs.reshape(len(times), -1), axis=0)
         nu = Bs.shape[2]
@@ -245,6 +249,6 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
         model=model.name, t=times, variables=tuple(variables[i] for i in stay), A=As, B=Bs,
         controls=tuple(controls), q={c: traj.q[:, j] for j, c in enumerate(names_q)},
         qdot={c: traj.qd[:, j] for j, c in enumerate(names_q)}, lognorm=mu, persidsky_alpha=float(alpha),
-        exponent=exponent, controllability_rank=ranks, verdict=verdict, reason=reason,
+        exponent=exponent, controllability_rank=ranks, verdict=verdict, reason=reason, W=W,
         ignorable=tuple(names_q[j] for j in ign),
         dependent=tuple([names_q[j] for j in part.coords_D] + [names_v[j] for j in part.vel_D]), frozen=frozen)

@@ -30,7 +30,8 @@ def add_parser(sub, ctx) -> None:
                    "ignorable (e.g. a cart's position)")
     p.add_argument("--lqr", metavar="Q,R", help="optimal stabilization: weights Q,R (numbers or "
                    "';'-separated diagonals), gain, Riccati matrix (Lyapunov function) and the "
-                   "closed-loop eigenvalues; needs --controls")
+                   "closed-loop eigenvalues (--about program: the differential Riccati equation); "
+                   "needs --controls")
     p.add_argument("--t-end", type=float, default=None,
                    help="--about program: the end of the programmed motion followed")
     json_option(p)
@@ -50,13 +51,22 @@ def run(args) -> int:
     if args.about == "program":
         from ..analysis.program import linearize_program
 
-        if args.lqr:
-            raise ModelError("--lqr: optimal stabilization of a programmed motion needs the "
-                             "differential Riccati equation; use --about equilibrium|steady or drop --lqr")
         result = linearize_program(model, controls=_names(args.controls), t_end=args.t_end,
                                    keep=_names(args.keep))
         payload = result.to_dict()
         text = result.as_text()
+        if args.lqr:
+            from ..analysis.control import program_lqr, weights
+
+            if not result.controls:
+                raise ModelError("--lqr: needs --controls (the parameters that act as inputs)")
+            Q, R = weights(args.lqr, len(result.variables), len(result.controls))
+            reg = program_lqr(result, Q, R)
+            payload["lqr"] = {"t": reg.t.tolist(), "K": reg.K.tolist(), "P": reg.P.tolist(),
+                              "exponent_open": reg.exponent_open, "exponent_closed": reg.exponent_closed}
+            text += ("\noptimal stabilization (differential Riccati equation, P(T) = 0):"
+                     f"\n  K(t0) = {reg.K[0].tolist()}\n  characteristic exponents: open loop "
+                     f"{reg.exponent_open:.6g}, closed loop {reg.exponent_closed:.6g}")
     else:
         if args.t_end is not None:
             raise ModelError("--t-end: only for --about program (the programmed motion followed)")
