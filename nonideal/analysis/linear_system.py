@@ -22,6 +22,7 @@ from ..errors import LinearizationUndefined, ModelError, did_you_mean
 from ..modeling.expressions import parse_expression
 from ..modeling.model import Model
 from ..modeling.symbols import to_se, to_sp
+from ..numeric.kernel import Compiled
 
 __all__ = ["LinearKernel", "kernel_of", "Partition", "partition", "tangent", "state_matrices",
            "saddle", "solve", "Point", "NEWTON_STEPS", "check_parameters", "clean",
@@ -88,7 +89,9 @@ class LinearKernel:
                 flat.extend(se.sympify(x) for x in rw)
         self.inputs = [dyn.t] + list(q) + list(v) + list(a) + self.lam + list(dyn.params)
         self.flat = flat
-        self._numeric = se.Lambdify(self.inputs, flat, cse=True) if flat else None
+        # compiled with the library's Compiled (its inputs renamed so that the CSE temporaries
+        # x0, x1, ... cannot capture a model symbol of that name)
+        self._numeric = Compiled(self.inputs, {"flat": flat}) if flat else None
         self.names = list(model.parameters)
 
     # ---------------------------------------------------------------- evaluation
@@ -96,7 +99,7 @@ class LinearKernel:
         return np.concatenate([[t], q, v, a, lam, params]).astype(float)
 
     def numeric(self, t, q, v, a, lam, params) -> dict:
-        out = np.asarray(self._numeric(self._input(t, q, v, a, lam, params)), float).ravel() \
+        out = self._numeric.raw(self._input(t, q, v, a, lam, params)).copy() \
             if self._numeric is not None else np.zeros(0)
         res = {}
         for key, (nr, nc, start) in self.shapes.items():

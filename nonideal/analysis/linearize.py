@@ -164,8 +164,8 @@ class Linearization:
     def as_text(self) -> str:
         """Readable report: the state, the variables, A, the polynomial, the Hurwitz minors,
         the conditions, the verdict and why."""
-        lines = [f"{self.model}: first approximation about the {self.about}"
-                 + (" (steady motion)" if self.about == "steady" else "")]
+        lines = [f"{self.model}: first approximation about the "
+                 + ("steady motion" if self.about == "steady" else "equilibrium")]
         state = ", ".join(f"{k} = {v:.10g}" for k, v in self.q.items())
         moving = ", ".join(f"{k}' = {v:.10g}" for k, v in self.qdot.items() if v)
         lines.append(f"  state: {state}" + (f", {moving}" if moving else ""))
