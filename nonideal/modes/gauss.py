@@ -61,8 +61,15 @@ def gauss_minimize(M: np.ndarray, force: np.ndarray, G: np.ndarray, gamma: np.nd
 
 
 def gauss_measure(M: np.ndarray, force: np.ndarray, qdd: np.ndarray) -> float:
-    """Gauss's constraint ``1/2 (a - M^-1 f)^T M (a - M^-1 f)``."""
-    d = qdd - np.linalg.solve(M, force)
+    """Gauss's constraint ``1/2 (a - M^-1 f)^T M (a - M^-1 f)``.  With coordinates without
+    inertia (M singular, the accelerations still unique through the constraints) the
+    least-squares M^-1 f is used: the measure is defined up to the massless directions, which
+    it does not weigh."""
+    try:
+        free = np.linalg.solve(M, force)
+    except np.linalg.LinAlgError:
+        free = np.linalg.lstsq(M, force, rcond=None)[0]
+    d = qdd - free
     return float(0.5 * d @ M @ d)
 
 

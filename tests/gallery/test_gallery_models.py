@@ -76,4 +76,6 @@ def test_every_form_agrees_with_lagrange1(name, contact_state, gallery_model):
         assert report.states == 10, (name, form)
         assert report.worst() < 1e-9, (name, form, report)
         checked.append(form)
-    assert "gauss" in checked and len(checked) >= 2, (name, checked)
+    # Gauss's principle is for ideal constraints (with friction): not for servo / quasi-ideal ones
+    nonideal_rows = any(c.reaction_kind != "ideal" for c in model.constraints)
+    assert ("gauss" in checked or nonideal_rows) and len(checked) >= 2, (name, checked)
