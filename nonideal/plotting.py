@@ -161,3 +161,45 @@ def plot_stability(result, path) -> None:
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
+
+
+def plot_locus(locus: dict, title: str, path) -> None:
+    """A parameter study of ``nonideal stability --vary``: with one parameter the root locus
+    (eigenvalues in the complex plane coloured by the parameter, and the largest real part
+    against it); with two the stable region (asymptotically stable / critical / unstable)."""
+    names = list(locus["vary"])
+    rows = locus["rows"]
+    if len(names) == 1:
+        fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4.5))
+        vals = np.array([r["parameters"][names[0]] for r in rows])
+        for r, v in zip(rows, vals):
+            eig = np.array(r["eigenvalues"]).reshape(-1, 2)
+            sc = ax1.scatter(eig[:, 0], eig[:, 1], c=np.full(len(eig), v), cmap="viridis",
+                             vmin=vals.min(), vmax=vals.max(), s=12)
+        fig.colorbar(sc, ax=ax1, label=names[0])
+        ax1.axvline(0.0, color="k", lw=0.8)
+        ax1.set_xlabel("Re s")
+        ax1.set_ylabel("Im s")
+        ax1.set_title("root locus")
+        worst = [max((e[0] for e in r["eigenvalues"]), default=np.nan) for r in rows]
+        ax2.plot(vals, worst, "o-", ms=3)
+        ax2.axhline(0.0, color="k", lw=0.8)
+        ax2.set_xlabel(names[0])
+        ax2.set_ylabel("largest Re s")
+    else:
+        fig, ax2 = plt.subplots(figsize=(6.4, 5))
+        code = {"asymptotically stable": 0, "critical": 1, "unstable": 2, None: 3}
+        xs, ys = locus["vary"][names[0]], locus["vary"][names[1]]
+        grid = np.array([code[r["verdict"]] for r in rows]).reshape(len(xs), len(ys)).T
+        from matplotlib.colors import ListedColormap
+        cmap = ListedColormap(["#2a9d8f", "#e9c46a", "#e76f51", "#dddddd"])
+        ax2.pcolormesh(xs, ys, grid, cmap=cmap, vmin=-0.5, vmax=3.5, shading="nearest")
+        ax2.set_xlabel(names[0])
+        ax2.set_ylabel(names[1])
+        from matplotlib.patches import Patch
+        ax2.legend(handles=[Patch(color=c, label=l) for c, l in zip(cmap.colors, ["asymptotically stable",
+                   "critical", "unstable", "undefined"])], fontsize=8, loc="best")
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)

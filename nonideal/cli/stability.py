@@ -34,9 +34,13 @@ def add_parser(sub, ctx) -> None:
                    "needs --controls")
     p.add_argument("--t-end", type=float, default=None,
                    help="--about program: the end of the programmed motion followed")
+    p.add_argument("--vary", action="append", default=[], metavar="NAME=START:STOP:N",
+                   help="a parameter study: the eigenvalues against NAME (root locus; once) or the "
+                   "stable region over two parameters (twice); in the JSON as 'locus' and on --plot")
     json_option(p)
     p.add_argument("--plot", metavar="PNG", help="eigenvalues in the complex plane (for --about "
-                   "program: the real parts against t)")
+                   "program: the real parts against t; with --vary: the root locus or the stability "
+                   "region)")
     p.set_defaults(func=run)
 
 
@@ -46,6 +50,7 @@ def _names(text):
 
 def run(args) -> int:
     check_options(args)
+    _ranges(args.vary)                  # a malformed --vary is reported before any work
     model = load_spec(args.model, args.set)
     outputs = Outputs()
     if args.about == "program":
@@ -86,13 +91,81 @@ def run(args) -> int:
             payload["lqr"] = reg.to_dict()
             text += "\n" + reg.as_text()
         result = lin
+    locus = _locus(args) if args.vary else None
+    if locus is not None:
+        payload["locus"] = locus
+        text += "\n" + _locus_text(locus)
     if args.plot:
-        from ..plotting import plot_stability
+        from ..plotting import plot_locus, plot_stability
 
-        outputs.add("--plot", args.plot, lambda tmp: plot_stability(result, tmp))
+        if locus is not None:
+            outputs.add("--plot", args.plot, lambda tmp: plot_locus(locus, payload["model"], tmp))
+        else:
+            outputs.add("--plot", args.plot, lambda tmp: plot_stability(result, tmp))
     if args.json:
         emit_json(args, payload, outputs)
     else:
         print(text)
     outputs.commit()
     return 0
+
+
+def _ranges(items) -> list[tuple[str, list[float]]]:
+    import numpy as np
+
+    out, problems = [], []
+    for item in items:
+        name, _, spec = item.partition("=")
+        parts = spec.split(":")
+        try:
+            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+            if len(parts) != 3 or count < 2:
+                raise ValueError
+        except (ValueError, IndexError):
+            problems.append(f"--vary {item}: expected NAME=START:STOP:N with N >= 2, e.g. --vary J=0.3:0.6:20")
+            continue
+        out.append((name.strip(), [float(x) for x in np.linspace(start, stop, count)]))
+    if len(out) > 2:
+        problems.append("--vary: at most two parameters (a root locus, or a stability region)")
+    if problems:
+        raise ModelError(problems)
+    return out
+
+
+def _locus(args) -> dict:
+    """Linearize at every point of the --vary grid (the same options); each point's verdict and
+    eigenvalues, or its error message."""
+    import itertools
+
+    from ..analysis.linearize import linearize
+    from ..analysis.program import linearize_program
+    from ..errors import NonidealError
+
+    ranges = _ranges(args.vary)
+    names = [n for n, _ in ranges]
+    rows = []
+    for values in itertools.product(*[v for _, v in ranges]):
+        sets = list(args.set) + [f"{n}={v!r}" for n, v in zip(names, values)]
+        model = load_spec(args.model, sets)
+        try:
+            if args.about == "program":
+                res = linearize_program(model, t_end=args.t_end, keep=_names(args.keep))
+                eig = [complex(*z) for z in res.frozen["eigenvalues"]]
+            else:
+                res = linearize(model, about=args.about, at=args.at, keep=_names(args.keep), exact=args.exact)
+                eig = list(res.eigenvalues)
+            rows.append({"parameters": dict(zip(names, values)), "verdict": res.verdict,
+                         "eigenvalues": [[z.real, z.imag] for z in eig]})
+        except NonidealError as exc:
+            rows.append({"parameters": dict(zip(names, values)), "verdict": None, "error": str(exc),
+                         "eigenvalues": []})
+    return {"vary": {n: v for n, v in ranges}, "rows": rows}
+
+
+def _locus_text(locus: dict) -> str:
+    lines = ["parameter study (--vary):"]
+    for row in locus["rows"]:
+        at = ", ".join(f"{k} = {v:.6g}" for k, v in row["parameters"].items())
+        worst = max((re for re, _ in row["eigenvalues"]), default=float("nan"))
+        lines.append(f"  {at}: {row['verdict'] or 'error: ' + row.get('error', '')} (largest Re = {worst:.6g})")
+    return "\n".join(lines)

@@ -78,3 +78,16 @@ def test_singular_constraint_rows_are_exit_3(tmp_path, cli):
     r = cli("stability", model, "--at", "x=0, y=-1")
     assert r.returncode == 3, r.stderr
     assert "linearization is undefined" in r.stderr and "dependent" in r.stderr
+
+
+def test_vary_gives_the_root_locus_and_the_plot(tmp_path, cli):
+    png = tmp_path / "locus.png"
+    r = cli("stability", "watt-governor", "--about", "steady", "--at", "phi=1, theta'=4",
+            "--vary", "J=0.40:0.49:2", "--json", "--plot", png)
+    assert r.returncode == 0, r.stderr
+    rows = json.loads(r.stdout)["locus"]["rows"]
+    # Vyshnegradsky's boundary J_c = 0.44516 lies between the two points
+    assert [row["verdict"] for row in rows] == ["unstable", "asymptotically stable"]
+    assert png.stat().st_size > 0
+    r = cli("stability", "watt-governor", "--vary", "J=1:2")
+    assert r.returncode == 2 and "NAME=START:STOP:N" in r.stderr
