@@ -50,11 +50,17 @@ What is checked (``run``):
    the weave speed (root of the Hurwitz determinant a1 a2 a3 - a0 a3^2 - a1^2 a4 of the
    characteristic polynomial det(M s^2 + v C1 s + g K0 + v^2 K2)) and the capsize speed
    (det(g K0 + v^2 K2) = 0, a quadratic in v^2) against the published ones (1e-11 relative).
-3. The model file against :func:`build` (the same bicycle written with the Python API, the
+3. The library's stability analysis: ``linearize(model, about="steady")`` at v = 0..10
+   (:func:`linearization`; the model file's ``[forms] independent`` keeps roll and steer
+   independent, so x, y, psi, thetaR, thetaF are recognized as cyclic and the held wheel
+   speed is named) gives the roll/steer state matrix and the input matrix B = [0; M^-1] of
+   item 1 (1e-9) and the eigenvalues of Table 2 (1e-11 relative); its verdict is
+   "asymptotically stable" exactly at v = 5 and 6 m/s of the eleven speeds.
+4. The model file against :func:`build` (the same bicycle written with the Python API, the
    front frame rotated as R_B Ry(lam) Rz(delta) Ry(-lam) and its points placed from the
    reference configuration, independently of the file's steer-axis parameters): the
    accelerations agree at perturbed states.
-4. The nonlinear motion: a simulation at v = 4.6 m/s (self-stable, the paper's Figure 5 speed)
+5. The nonlinear motion: a simulation at v = 4.6 m/s (self-stable, the paper's Figure 5 speed)
    started with a small roll rate follows the linear solution exp(A t) x0; the bicycle is
    symmetric left-right, so the difference is of third order in the perturbation (1.6e-5 of
    a roll-rate kick of 0.01 rad/s over 3 s).
@@ -129,6 +135,8 @@ TABLE2 = {
 
 COORDINATES = ["x", "y", "psi", "phi", "thetaB", "thetaR", "delta", "thetaF", "xF", "yF",
                "psiF", "phiF"]
+#: coordinates kept independent (reduced forms, linearization): roll and steer, the cyclic rest
+INDEPENDENT = ["x", "y", "psi", "phi", "thetaR", "delta", "thetaF"]
 #: start values of the dependent coordinates near upright running
 _GUESS = {"thetaB": 0.0, "xF": 1.02, "yF": 0.0, "psiF": 0.0, "phiF": 0.0}
 
@@ -210,11 +218,12 @@ def build(**parameters) -> Model:
         Constraint.nonholonomic("front_rolling_y", qd["yF"] + rF * qd["thetaF"] * sp.sin(psiF)),
     ]
     initial = {n: 0.0 for n in COORDINATES}
-    initial.update({"xF": "w", "phi'": 0.0, "delta'": 0.0, "thetaR'": "-v/rR"})
+    initial.update({"xF": "w", "x'": "v", "phi'": 0.0, "delta'": 0.0, "thetaR'": "-v/rR",
+                    "thetaF'": "-v/rF", "xF'": "v"})
     return Model(name="Benchmark bicycle (Whipple model, Meijaard et al. 2007)",
                  coordinates=COORDINATES, parameters=p, bodies=bodies, loads=loads,
                  gravity=["0", "0", "g"], constraints=constraints, initial=initial,
-                 simulation={"t_end": 5.0, "rtol": 1e-10, "atol": 1e-12})
+                 independent=INDEPENDENT, simulation={"t_end": 5.0, "rtol": 1e-10, "atol": 1e-12})
 
 
 # ----------------------------------------------------------------------------- linearization
@@ -320,6 +329,23 @@ def linear_matrices(model: Model | None = None, h: float = 1e-4) -> dict[str, np
     return out
 
 
+def steady_motion(model: Model, v: float) -> dict:
+    """The velocities of upright straight running at speed *v* (the ``at`` of the stability
+    analysis): the rear and front contacts move forward at v, the wheels roll."""
+    p = model.parameter_values
+    return {"x'": v, "xF'": v, "thetaR'": -v / p["rR"], "thetaF'": -v / p["rF"]}
+
+
+def linearization(model: Model, v: float, controls=("Tphi", "Tdelta")):
+    """The library's first approximation about upright running at speed *v*
+    (:func:`nonideal.analysis.linearize.linearize`, ``about="steady"``): perturbation variables
+    (phi, delta, phi', delta'), the cyclic coordinates and the held speed named; with the
+    torques as controls, ``B = [0; M^-1]``."""
+    from ..analysis.linearize import linearize
+
+    return linearize(model, about="steady", at=steady_motion(model, v), controls=controls)
+
+
 def state_matrix(mats: dict, v: float) -> np.ndarray:
     """A of x' = A x, x = (phi, delta, phi', delta')."""
     M, C1, K0, K2, g = (mats[k] for k in ("M", "C1", "K0", "K2", "g"))
@@ -401,6 +427,21 @@ def run(verbose: bool = True) -> dict:
     at_weave = eigenvalues(mats, vw)
     weave_freq = float(np.max(np.abs(at_weave.imag)))
 
+    # the library's stability analysis (linearize about the steady motion) at v = 0..10
+    roll_steer = ["phi", "delta", "phi'", "delta'"]
+    err_lin, err_A, verdicts = {}, 0.0, {}
+    for vv in TABLE2:
+        lin = linearization(model, vv)
+        i = [lin.variables.index(n) for n in roll_steer]
+        rest = [j for j in range(len(lin.variables)) if j not in i]
+        A4 = lin.A[np.ix_(i, i)]
+        err_lin[vv] = _relative(np.sort_complex(np.linalg.eigvals(A4)), np.sort_complex(TABLE2[vv]))
+        err_A = max(err_A, float(np.max(np.abs(A4 - state_matrix(mats, vv)))),
+                    float(np.max(np.abs(lin.A[rest]), initial=0.0)),
+                    float(np.max(np.abs(lin.B[i[2:]] - np.linalg.inv(mats["M"])))))
+        verdicts[vv] = lin.verdict
+    stable = [vv for vv, verdict in verdicts.items() if verdict == "asymptotically stable"]
+
     # the model file against the Python API: accelerations at perturbed states
     api = RollSteer(build())
     ours = RollSteer(model)
@@ -425,6 +466,10 @@ def run(verbose: bool = True) -> dict:
         "capsize_speed": vc, "capsize_speed_error": abs(vc - CAPSIZE_SPEED) / CAPSIZE_SPEED,
         "weave_frequency": weave_freq,
         "weave_frequency_error": abs(weave_freq - WEAVE_FREQUENCY) / WEAVE_FREQUENCY,
+        "linearize_eigenvalue_error_max": max(err_lin.values()),
+        "linearize_vs_differences_max": err_A,
+        "linearize_variables": list(lin.variables), "linearize_ignorable": list(lin.ignorable),
+        "linearize_family": list(lin.family), "self_stable_speeds": stable,
         "file_vs_api_max": err_api,
         "nonlinear_vs_linear_relative": err_sim,
         "constraint_residual_max": traj.diagnostics["constraint_residual_max"],
@@ -433,6 +478,8 @@ def run(verbose: bool = True) -> dict:
                         and result["weave_speed_error"] < 1e-11
                         and result["capsize_speed_error"] < 1e-11
                         and result["weave_frequency_error"] < 1e-11
+                        and max(err_lin.values()) < 1e-11 and err_A < 1e-9
+                        and stable == [vv for vv in TABLE2 if WEAVE_SPEED < vv < CAPSIZE_SPEED]
                         and err_api < 1e-10 and err_sim < eps / 10)
     if verbose:
         np.set_printoptions(precision=14, suppress=False, linewidth=120)
@@ -452,6 +499,13 @@ def run(verbose: bool = True) -> dict:
         print(f"weave speed   {vw:.14f}  (published {WEAVE_SPEED}, rel. {result['weave_speed_error']:.1e})")
         print(f"capsize speed {vc:.14f}  (published {CAPSIZE_SPEED}, rel. {result['capsize_speed_error']:.1e})")
         print(f"weave frequency at v_w: {weave_freq:.14f} (published {WEAVE_FREQUENCY})")
+        print("the stability analysis, linearize(model, about='steady') at v = 0..10:")
+        print(f"  variables {', '.join(lin.variables)}; cyclic {', '.join(lin.ignorable)}; "
+              f"held {', '.join(lin.family)}")
+        print(f"  eigenvalues vs Table 2: max relative difference {max(err_lin.values()):.1e}")
+        print(f"  A, B vs the differentiated accelerations: max |difference| {err_A:.1e}")
+        print(f"  asymptotically stable at v = {stable} (published: between {WEAVE_SPEED} and "
+              f"{CAPSIZE_SPEED})")
         print(f"model file vs Python API (accelerations): {err_api:.1e}")
         print(f"nonlinear simulation vs linear solution (v = {v}, phi'(0) = {eps}): "
               f"{err_sim:.1e} of the perturbation")

@@ -98,3 +98,28 @@ def test_nonlinear_motion_follows_the_linearization(model, mats):
         assert traj.diagnostics["constraint_residual_max"] < 1e-10
     assert rel[1] < 1e-3
     assert 3.2 < rel[0] / rel[1] < 4.8      # third order: the relative error quarters
+
+
+@pytest.mark.slow
+def test_stability_analysis_of_upright_running(model, mats):
+    """``linearize(model, about="steady")`` -- the library's stability analysis -- at upright
+    running: roll and steer are the perturbation variables, the cyclic coordinates and the
+    held wheel speed are named, A and B equal the differentiated accelerations' state matrix
+    and [0; M^-1], the eigenvalues are those of Table 2, and the verdict is "asymptotically
+    stable" exactly between the weave and capsize speeds."""
+    Minv = np.linalg.inv(mats["M"])
+    for v in (0, 3, 5, 6, 7, 10):
+        lin = bb.linearization(model, v)
+        assert lin.ignorable == ("x", "y", "psi", "thetaR", "thetaF")
+        if v:
+            assert lin.variables == ("phi", "delta", "phi'", "delta'")
+            assert lin.family == ("thetaF'",)
+        i = [lin.variables.index(n) for n in ("phi", "delta", "phi'", "delta'")]
+        A4 = lin.A[np.ix_(i, i)]
+        np.testing.assert_allclose(A4, bb.state_matrix(mats, v), rtol=0, atol=1e-9)
+        np.testing.assert_allclose(lin.B[i[2:]], Minv, rtol=0, atol=1e-11)
+        ours = np.sort_complex(np.linalg.eigvals(A4))
+        published = np.sort_complex(np.array(bb.TABLE2[v]))
+        assert np.max(np.abs(ours - published) / np.maximum(1.0, np.abs(published))) < 1e-11
+        stable = bb.WEAVE_SPEED < v < bb.CAPSIZE_SPEED
+        assert (lin.verdict == "asymptotically stable") == stable, (v, lin.verdict)
