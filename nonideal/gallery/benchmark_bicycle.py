@@ -2,7 +2,7 @@
 
 Source: J. P. Meijaard, J. M. Papadopoulos, A. Ruina, A. L. Schwab, *Linearized dynamics
 equations for the balance and steer of a bicycle: a benchmark and review*, Proc. R. Soc. A
-463 (2007) 1955-1982.  Their Table 1 gives the parameters, section 5 (eq. (5.3)-(5.4)) the
+463 (2007) 1955-1982.  Their Table 1 gives the parameters; for these they give the
 linearized equations about upright straight running at speed v,
 
     M q'' + v C1 q' + (g K0 + v^2 K2) q = f,      q = (phi, delta),  f = (T_phi, T_delta),
@@ -60,10 +60,10 @@ What is checked (``run``):
    front frame rotated as R_B Ry(lam) Rz(delta) Ry(-lam) and its points placed from the
    reference configuration, independently of the file's steer-axis parameters): the
    accelerations agree at perturbed states.
-5. The nonlinear motion: a simulation at v = 4.6 m/s (self-stable, the paper's Figure 5 speed)
-   started with a small roll rate follows the linear solution exp(A t) x0; the bicycle is
-   symmetric left-right, so the difference is of third order in the perturbation (1.6e-5 of
-   a roll-rate kick of 0.01 rad/s over 3 s).
+5. The nonlinear motion: a simulation at v = 4.6 m/s (self-stable) started with a small roll
+   rate follows the linear solution exp(A t) x0; the bicycle is symmetric left-right, so the
+   difference is of third order in the perturbation (1.6e-5 of a roll-rate kick of 0.01 rad/s
+   over 3 s).
 
 No misprint to report: the model reproduces the published matrices and eigenvalues.
 """
@@ -95,7 +95,7 @@ PARAMETERS = {
     "Tphi": 0.0, "Tdelta": 0.0,
 }
 
-#: Meijaard et al. 2007, eq. (5.4) (q = (phi, delta)).
+#: Meijaard et al. 2007, the benchmark's coefficient matrices (q = (phi, delta)).
 PUBLISHED_MATRICES = {
     "M": [[80.81722, 2.31941332208709], [2.31941332208709, 0.29784188199686]],
     "C1": [[0.0, 33.86641391492494], [-0.85035641456978, 1.68540397397560]],
@@ -485,7 +485,7 @@ def run(verbose: bool = True) -> dict:
         np.set_printoptions(precision=14, suppress=False, linewidth=120)
         print(TITLE)
         print("linearized equations M q'' + v C1 q' + (g K0 + v^2 K2) q = f, q = (phi, delta),")
-        print("from the library's accelerations (the published values in brackets: eq. (5.4)):")
+        print("from the library's accelerations (the published values in brackets):")
         for k in ("M", "C1", "K0", "K2"):
             for i in range(2):
                 row = "  ".join(f"{mats[k][i, j]:20.14f} [{pub[k][i, j]:18.14f}]" for j in range(2))

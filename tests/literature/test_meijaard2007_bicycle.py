@@ -3,7 +3,7 @@
 The Whipple bicycle (four rigid bodies, knife-edge wheels rolling on level ground) written
 as bodies and constraints in ``nonideal/gallery/benchmark_bicycle.toml``; linearized about
 upright straight running from the library's own accelerations, it must reproduce the paper's
-matrices (eq. (5.4)), the eigenvalues of its Table 2 at v = 0..10 m/s and the weave and
+matrices M, C1, K0, K2, the eigenvalues of its Table 2 at v = 0..10 m/s and the weave and
 capsize speeds, to the published digits (14 decimals).
 """
 
