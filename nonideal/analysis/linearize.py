@@ -131,6 +131,7 @@ class Linearization:
     controllability: dict = field(default_factory=dict)
     residual: float = 0.0
     frequencies: tuple = ()
+    conditions_meaning: str = ""
 
     def to_dict(self) -> dict:
         """The JSON of ``nonideal stability`` (keys of the command's contract)."""
@@ -147,6 +148,7 @@ class Linearization:
             "characteristic_polynomial": str(self.characteristic_polynomial),
             "hurwitz": [_scalar(h) for h in self.hurwitz],
             "conditions": [str(c) for c in self.conditions],
+            "conditions_meaning": self.conditions_meaning,
             "controllability": dict(self.controllability),
             "ignorable": list(self.ignorable),
             "family": list(self.family),
@@ -193,7 +195,7 @@ class Linearization:
         if self.hurwitz:
             lines.append("  Hurwitz minors: " + ", ".join(f"D{i + 1} = {_short(h)}" for i, h in enumerate(self.hurwitz)))
         if self.conditions:
-            lines.append("  asymptotic stability iff (Lienard--Chipart): " + "; ".join(str(c) for c in self.conditions))
+            lines.append(f"  {self.conditions_meaning} iff: " + "; ".join(str(c) for c in self.conditions))
         lines.append("  eigenvalues: " + ", ".join(_complex(z) for z in self.eigenvalues))
         if self.frequencies:
             lines.append("  natural frequencies (rad/s): " + ", ".join(f"{w:.10g}" for w in self.frequencies))
@@ -385,7 +387,8 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
         dependent=tuple(dependent), eigenvalues=info["eigenvalues"],
         characteristic_polynomial=info["polynomial"], hurwitz=tuple(info["hurwitz"]),
         verdict=info["verdict"], reason=info["reason"], conditions=tuple(info["conditions"]),
-        controllability=ctrl, residual=res_guess, frequencies=tuple(freqs))
+        controllability=ctrl, residual=res_guess, frequencies=tuple(freqs),
+        conditions_meaning=info["conditions_meaning"])
 
 
 def _scale(pt: Point, q, v, part) -> float:

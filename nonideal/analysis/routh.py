@@ -117,8 +117,11 @@ def analyse(A: np.ndarray, A_symbolic: sp.Matrix | None = None, symbolic: Sequen
         reason += ("; the polynomial is even in s (no dissipation): the roots are on the imaginary "
                    "axis iff the roots of P(z = s^2) are real and negative (gyroscopic stability, "
                    "Kelvin--Chetaev)")
+    meaning = ("" if A_symbolic is None else
+               "roots on the imaginary axis, simple (no dissipation: P(s) = Z(s^2), the "
+               "roots of Z real, negative, distinct)" if even else "asymptotic stability (Lienard--Chipart)")
     return {"eigenvalues": eig, "polynomial": polynomial, "coefficients": coeffs, "hurwitz": minors,
-            "conditions": conditions, "verdict": verdict, "reason": reason}
+            "conditions": conditions, "conditions_meaning": meaning, "verdict": verdict, "reason": reason}
 
 
 def _positive(expr) -> sp.Basic:
