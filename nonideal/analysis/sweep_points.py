@@ -194,9 +194,24 @@ class PointRunner:
         from ..simulation.hybrid import simulate
 
         opts = {k: self.options[k] for k in ("rtol", "atol", "method") if k in self.options}
-        traj = simulate(model, t_end=self.options.get("t_end"), form=self.options.get("form", "lagrange1"),
+        t_end = self.options.get("t_end")
+        times = None
+        lossy = any(c.losses is not None for c in model.constraints)
+        if lossy:   # the actuators' heat is integrated on a dense uniform sampling
+            import numpy as np
+
+            from .quasi_ideal import HEAT_SAMPLES
+
+            end = t_end if t_end is not None else model.simulation.t_end
+            times = np.linspace(model.t0, float(end), HEAT_SAMPLES) if end is not None else None
+        traj = simulate(model, t_end=t_end, times=times, form=self.options.get("form", "lagrange1"),
                         parameters=values, initial=initial, **opts)
-        return simulation_summary(traj)
+        summary = simulation_summary(traj)
+        if lossy:
+            from .quasi_ideal import actuator_heat
+
+            summary["actuator_heat"] = float(actuator_heat(model, traj, values)["total"][-1])
+        return summary
 
     def _state(self, initial):
         at = dict(initial or {})
@@ -267,9 +282,7 @@ def simulation_summary(traj) -> dict:
            "q": {c: float(traj.q[-1, k]) for k, c in enumerate(traj.coordinates)},
            "qdot": {c: float(traj.qd[-1, k]) for k, c in enumerate(traj.coordinates)},
            "events": events,
-           "friction_heat": -float(energy["friction_work"][-1]) if "friction_work" in energy else 0.0}
+           "friction_heat": 0.0 - float(energy["friction_work"][-1]) if "friction_work" in energy else 0.0}
     if "reaction_work" in energy:
         out["reaction_work"] = float(energy["reaction_work"][-1])
-    if "actuator_heat" in energy:
-        out["actuator_heat"] = float(energy["actuator_heat"][-1])
     return out
