@@ -177,7 +177,8 @@ def _csv_value(v):
 def flatten(row: Mapping[str, Any]) -> dict[str, Any]:
     """A row as one level of columns: the parameters by name, ``exit_code``, ``message``, the
     summary's nested keys joined by dots (``q.x``, ``qdot.x``, ``multipliers.rod``); the events
-    as ``events`` = ``"type@t;..."``; a list of numbers as ``key.0``, ``key.1`` ..."""
+    as ``events`` = ``"type@t;..."``, ``events.count`` and ``events.first`` (the first one's
+    type, ``"none"``); a list of numbers as ``key.0``, ``key.1`` ..."""
     out: dict[str, Any] = dict(row.get("parameters", {}))
     out["exit_code"] = row.get("exit_code")
     out["message"] = row.get("message")
@@ -189,6 +190,7 @@ def flatten(row: Mapping[str, Any]) -> dict[str, Any]:
         elif prefix == "events" and isinstance(value, list):
             out["events"] = ";".join(f"{e.get('type')}@{e.get('t'):.10g}" for e in value)
             out["events.count"] = len(value)
+            out["events.first"] = value[0].get("type") if value else "none"
         elif isinstance(value, (list, tuple)):
             for k, v in enumerate(value):
                 walk(f"{prefix}.{k}", v)

@@ -234,7 +234,7 @@ def run(args) -> int:
     if args.csv:
         outputs.add("--csv", args.csv, result.to_csv)
     if args.plot:
-        from ..analysis.sweep_plot import plot_sweep
+        from ..plotting import plot_sweep
 
         outputs.add("--plot", args.plot, lambda tmp: plot_sweep(result, tmp, args.quantity))
     outputs.commit()

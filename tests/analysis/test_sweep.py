@@ -165,7 +165,7 @@ def test_flatten_names_the_columns():
                        "eigenvalues": [[-1.0, 2.0]]}}
     assert flatten(row) == {"mu": 0.2, "exit_code": 0, "message": "ok", "q.x": 1.0,
                             "qdot.x": 2.0, "friction_heat": 3.0, "events": "stick@0.5;slip@0.75",
-                            "events.count": 2, "eigenvalues.0.0": -1.0, "eigenvalues.0.1": 2.0}
+                            "events.count": 2, "events.first": "stick", "eigenvalues.0.0": -1.0, "eigenvalues.0.1": 2.0}
 
 
 @pytest.mark.slow
