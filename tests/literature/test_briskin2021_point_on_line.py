@@ -114,3 +114,11 @@ def test_minimum_of_the_criterion_3_10():
     assert best.value <= best.grid_value
     at = closed_form({**p, **best.x}, 1.0)
     assert at["R_x"] == pytest.approx(exact["u"], rel=1e-3)
+
+
+def test_simulate_reports_the_heat_next_to_the_work():
+    data = cli_json("simulate", PATH, "--set", "alpha=0.3", "--set", "beta=-0.4", "--json")
+    cf = closed_form({**load_model(PATH).parameter_values, "alpha": 0.3, "beta": -0.4}, 1.0)
+    assert data["actuator_heat"]["total"] == pytest.approx(cf["heat"], rel=1e-11)
+    assert data["actuator_heat"]["by_constraint"] == {"line": pytest.approx(cf["heat"], rel=1e-11)}
+    assert data["energy"]["reaction_work"][-1] == pytest.approx(cf["work"], rel=1e-10)
