@@ -251,7 +251,17 @@ class PointRunner:
                 "initial_mode": d["initial_mode"]}
 
     def _stability(self, model, values, initial) -> dict:
-        raise ModelError(STABILITY_MISSING)
+        from ..modeling.modelfile import load_model
+        from .linearize import linearize
+
+        if values is not None:   # the linearization is symbolic: the point's own model
+            model = load_model(self.path, parameters={**self.settings, **{
+                k: repr(float(v)) for k, v in values.items() if k in self.base.parameters}})
+        lin = linearize(model, about=self.options.get("about", "equilibrium"),
+                        at=dict(self.options["at"]) if self.options.get("at") else None)
+        d = lin.to_dict()
+        return {"verdict": d["verdict"], "eigenvalues": d["eigenvalues"],
+                "state": d["state"]}
 
 
 #: the message of ``--what stability`` while the stability analysis is not part of the library
@@ -260,10 +270,10 @@ STABILITY_MISSING = ("sweep --what stability: the stability analysis is not avai
 
 
 def stability_available() -> bool:
-    """Whether ``--what stability`` can run (the linearization of nonideal.analysis.stability)."""
+    """Whether ``--what stability`` can run (:mod:`nonideal.analysis.linearize`)."""
     import importlib.util
 
-    return importlib.util.find_spec(f"{__package__}.stability") is not None
+    return importlib.util.find_spec(f"{__package__}.linearize") is not None
 
 
 def simulation_summary(traj) -> dict:

@@ -55,6 +55,9 @@ def add_parser(sub, ctx) -> None:
     s.add_argument("--t-end", type=float, default=None, help="simulate: end time")
     s.add_argument("--at", help="evaluate, realizability, stability: the state (default: the "
                    "model's initial state at each point)")
+    s.add_argument("--about", choices=("equilibrium", "steady"), default=None,
+                   help="stability: the motion linearized about at each point (default "
+                   "equilibrium; --at gives the state or the guess)")
     s.add_argument("--form", default=None, type=form_type(ctx.solvers), metavar="FORM",
                    help="simulate, evaluate: " + ctx.solver_help)
     s.add_argument("--rtol", type=float, help="simulate: relative tolerance")
@@ -178,11 +181,13 @@ def run(args) -> int:
         problems += [f"--{o.replace('_', '-')}: an option of --what simulate" for o in simulate_only]
     if args.at and args.what not in ("evaluate", "realizability", "stability"):
         problems.append("--at: an option of --what evaluate, realizability or stability")
+    if args.about and args.what != "stability":
+        problems.append("--about: an option of --what stability")
     if problems:
         raise ModelError(problems)
     settings = parse_overrides(args.set)
     options = {}
-    for key in ("t_end", "rtol", "atol", "method", "form"):
+    for key in ("t_end", "rtol", "atol", "method", "form", "about"):
         if getattr(args, key) is not None:
             options[key] = getattr(args, key)
     if args.at:

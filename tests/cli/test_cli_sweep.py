@@ -8,6 +8,7 @@ import signal
 import subprocess
 import time
 
+import numpy as np
 import pytest
 
 from tests.helpers import cli_command, cli_env, run_cli
@@ -58,9 +59,9 @@ def test_bad_options_exit_2_naming_them(tmp_path):
     r = run_cli("sweep", BLOCK, "--vary", "mu=0:1:3", "--what", "evaluate", "--t-end", "1",
                 "--json", tmp_path / "s.json")
     assert r.returncode == 2 and "--t-end" in r.stderr
-    r = run_cli("sweep", BLOCK, "--vary", "mu=0:1:3", "--what", "stability", "--json",
-                tmp_path / "s.json")
-    assert r.returncode == 2 and "not available" in r.stderr
+    r = run_cli("sweep", BLOCK, "--vary", "mu=0:1:3", "--what", "simulate", "--about", "steady",
+                "--json", tmp_path / "s.json")
+    assert r.returncode == 2 and "--about: an option of --what stability" in r.stderr
     assert not (tmp_path / "s.json").exists() and not (tmp_path / "s.json.journal").exists()
 
 
@@ -107,3 +108,21 @@ def test_an_interrupted_sweep_resumes_from_its_journal(tmp_path):
     assert run_cli(*args[:-1], whole).returncode == 0
     assert resumed["rows"] == json.loads(whole.read_text())["rows"]
     assert not journal.exists()
+
+
+def test_stability_sweep_finds_maievski_bound(tmp_path):
+    """The sleeping top's steady spin is stable in the first approximation (critical: purely
+    imaginary eigenvalues) above Maievski's w_c = 2 sqrt(A_O m g l)/C = 11.44 rad/s."""
+    out = tmp_path / "top.json"
+    r = run_cli("sweep", "sleeping-top", "--vary", "w=10,13", "--what", "stability", "--about",
+                "steady", "--workers", "1", "--json", out)
+    assert r.returncode == 0, r.stderr
+    rows = json.loads(out.read_text())["rows"]
+    assert [row["summary"]["verdict"] for row in rows] == ["unstable", "critical"]
+    A_O, mgl, C = 0.03, 0.981, 0.03
+    for row in rows:
+        w = row["parameters"]["w"]
+        roots = np.roots([A_O ** 2, C ** 2 * w ** 2 - 2 * A_O * mgl, mgl ** 2]).astype(complex)
+        ref = np.concatenate([np.sqrt(roots), -np.sqrt(roots)])
+        eig = [complex(re, im) for re, im in row["summary"]["eigenvalues"]]
+        assert max(min(abs(z - r) for r in ref) for z in eig if abs(z) > 1e-9) < 1e-8
