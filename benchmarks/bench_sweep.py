@@ -160,7 +160,8 @@ def main(argv=None) -> dict:
     print(f"  worst relative error of the rolling time t* = 2|U0|/(7 mu g): "
           f"{out['worst_t_star_error']:.1e}")
     (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "sweep.json").write_text(json.dumps(out, indent=1) + "\n")
+    name = "sweep-quick.json" if args.quick else "sweep.json"
+    (HERE / "results" / name).write_text(json.dumps(out, indent=1) + "\n")
     return out
 
 
