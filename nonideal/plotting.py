@@ -131,6 +131,93 @@ def plot_trajectory(traj, path, title: str | None = None) -> None:
     plt.close(fig)
 
 
+#: the quantity a sweep plots when none is named, by command
+SWEEP_QUANTITY = {"realizability": "margin", "check": "determinacy", "stability": "verdict"}
+
+
+def _sweep_default(result) -> str:
+    if result.what in SWEEP_QUANTITY:
+        return SWEEP_QUANTITY[result.what]
+    ok = next((r for r in result.rows if r["exit_code"] == 0), None)
+    if ok is None:
+        return "exit_code"
+    key = "q" if result.what == "simulate" else "qddot"
+    return f"{key}.{next(iter(ok['summary'][key]))}"
+
+
+def plot_sweep(result, path, quantity: str | None = None) -> None:
+    """A quantity of a sweep (:class:`~nonideal.analysis.sweep.SweepResult`) against its one
+    varied parameter, or as a map over two (the first on the horizontal axis).
+
+    *quantity* is a column of the sweep's CSV (``q.x``, ``margin``, ``events.count``,
+    ``exit_code``...); text values (the type of the first event, a verdict) are drawn as
+    categories.  Failed points (exit code != 0) are marked with their exit code."""
+    from .analysis.sweep import flatten
+
+    quantity = quantity or _sweep_default(result)
+    flat = [flatten(r) for r in result.rows]
+    if not any(quantity in f for f in flat):
+        from .errors import ModelError, did_you_mean
+
+        columns = sorted({k for f in flat for k in f})
+        raise ModelError(f"--quantity {quantity}: not a column of this sweep"
+                         f"{did_you_mean(quantity, columns)}; columns: {', '.join(columns)}")
+    raw = [f.get(quantity) if r["exit_code"] == 0 or quantity in ("exit_code", "message") else None
+           for f, r in zip(flat, result.rows)]
+    if quantity == "exit_code":   # codes are categories, not a scale
+        raw = [None if v is None else f"exit {v}" for v in raw]
+    text = any(isinstance(v, str) for v in raw)
+    categories = sorted({v for v in raw if isinstance(v, str)}) if text else []
+    values = np.array([np.nan if v is None else (categories.index(v) if text else float(v))
+                       for v in raw], dtype=float)
+    failed = np.array([r["exit_code"] != 0 for r in result.rows])
+    axes = result.axes
+    fig, ax = plt.subplots(figsize=(7, 5), constrained_layout=True)
+    if len(axes) == 1:
+        x = np.array(axes[0].values)
+        ax.plot(x, values, "o-" if len(x) < 40 else "-", color="C0")
+        if text:
+            ax.set_yticks(range(len(categories)), categories)
+        for xi, r in zip(x[failed], [r for r, f in zip(result.rows, failed) if f]):
+            ax.axvline(xi, color="0.8", lw=0.8)
+            ax.annotate(f"exit {r['exit_code']}", (xi, 0), xycoords=("data", "axes fraction"),
+                        rotation=90, fontsize=7, va="bottom", color="C3")
+        ax.set_xlabel(axes[0].name)
+        ax.set_ylabel(quantity)
+        ax.grid(alpha=0.3)
+    else:
+        x, y = np.array(axes[0].values), np.array(axes[1].values)
+        Z = values.reshape(len(x), len(y)).T
+        if text:
+            from matplotlib.colors import ListedColormap
+
+            cmap = ListedColormap(plt.get_cmap("tab10").colors[:max(len(categories), 1)])
+        else:
+            cmap = plt.get_cmap("viridis")
+        mesh = ax.pcolormesh(x, y, np.ma.masked_invalid(Z), shading="nearest", cmap=cmap,
+                             vmin=-0.5 if text else None,
+                             vmax=(len(categories) - 0.5) if text else None)
+        bar = fig.colorbar(mesh, ax=ax, label=quantity)
+        if text:
+            bar.set_ticks(range(len(categories)), labels=categories)
+        elif np.nanmin(Z) < 0 < np.nanmax(Z) and min(len(x), len(y)) > 2:
+            ax.contour(x, y, Z, levels=[0.0], colors="k", linewidths=1.2)
+        F = failed.reshape(len(x), len(y)).T
+        if F.any():
+            X, Y = np.meshgrid(x, y)
+            codes = np.array([r["exit_code"] for r in result.rows]).reshape(len(x), len(y)).T
+            for code in sorted(set(codes[F])):
+                sel = F & (codes == code)
+                ax.plot(X[sel], Y[sel], "x", color="C3" if code == 3 else "k", ms=5,
+                        label=f"exit {code}")
+            ax.legend(loc="upper right", fontsize=8)
+        ax.set_xlabel(axes[0].name)
+        ax.set_ylabel(axes[1].name)
+    ax.set_title(f"{result.model}\n{result.what}: {quantity}", fontsize=9)
+    fig.savefig(path)
+    plt.close(fig)
+
+
 def plot_stability(result, path) -> None:
     """The eigenvalues of a linearization in the complex plane (the stability boundary is the
     imaginary axis); for a programmed motion the logarithmic norm mu(A(t)) and the real parts

@@ -55,6 +55,10 @@ class Constraint:
         derivative present).
     transform : n_q x n_q nested sequence, optional
         Quasi-ideal constraint: the reaction ``R`` satisfies ``A R = (df/dq)^T lambda``.
+    losses : sequence of n_q expressions in the parameters, optional
+        Heat loss coefficients ``mu_j`` of the drives that produce the generalized reaction
+        components ``R_j``: they lose ``sum_j mu_j R_j^2`` per unit time (Briskin et al.
+        2021, (3.7); :func:`nonideal.analysis.quasi_ideal.actuator_heat`).
     """
 
     name: str
@@ -65,6 +69,7 @@ class Constraint:
     transform: tuple[tuple[Any, ...], ...] | None = None
     restitution: float = 0.0
     order: int = -1  # filled by the Model: 0 holonomic, 1 first order, 2 second order
+    losses: tuple[Any, ...] | None = None
 
     @classmethod
     def holonomic(cls, name: str, expr: Any, unilateral: bool = False, **kw) -> "Constraint":

@@ -348,13 +348,24 @@ class Normalizer:
                 if c.reaction is not None:
                     self.problems.append(f"{where}: give either 'reaction' (servo) or 'transform' (quasi-ideal), not both")
                     continue
+            losses = None
+            if c.losses is not None:
+                losses = self.vector(c.losses, f"{where}: losses", (m.n_q,), order=0)
+                if losses is None:
+                    continue
+                params = {sp.Symbol(n) for n in m.parameters}
+                others = sorted({str(s) for e in losses for s in e.free_symbols} - {str(s) for s in params})
+                if others:
+                    self.problems.append(f"{where}: losses must be numbers or expressions in the "
+                                         f"parameters (got {', '.join(others)})")
+                    continue
             kind = "holonomic" if order == 0 else "nonholonomic"
             restitution = float(c.restitution)
             if not 0.0 <= restitution <= 1.0:
                 self.problems.append(f"{where}: restitution must lie in [0, 1] (got {restitution})")
                 continue
             out.append(Constraint(c.name, expr, kind, bool(c.unilateral), reaction, transform,
-                                  restitution=restitution, order=order))
+                                  restitution=restitution, order=order, losses=losses))
         self.set("constraints", tuple(out))
 
     def contacts(self) -> None:
