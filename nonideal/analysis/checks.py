@@ -19,6 +19,7 @@ from ..modes.diagnosis import diagnose_state
 from ..modes.solver import ModeSolver
 from ..modes.switching import select_mode
 from ..numeric.kernel import kernel_of, parameter_vector
+from .statics import servo_equilibrium
 
 __all__ = ["CheckReport", "check_model"]
 
@@ -36,15 +37,19 @@ class CheckReport:
     initial: dict[str, float]
     initial_mode: str
     notes: list[str] = field(default_factory=list)
+    equilibrium: dict[str, Any] | None = None   # servo-constraints, initial state at rest
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        out = {
             "model": self.model, "source": self.source, "ok": True,
             "coordinates": self.coordinates, "parameters": self.parameters,
             "constraints": self.constraints, "contacts": self.contacts, "counts": self.counts,
             "determinacy": self.determinacy, "initial_state": self.initial,
             "initial_mode": self.initial_mode, "notes": self.notes,
         }
+        if self.equilibrium is not None:
+            out["servo_equilibrium"] = self.equilibrium
+        return out
 
     def as_text(self) -> str:
         c = self.counts
@@ -137,8 +142,13 @@ def check_model(model: Model) -> CheckReport:
     if completed:
         notes.append("completed from the constraints: " + ", ".join(completed))
     notes += servo_notes(kernel.dyn)
+    equilibrium = None
+    if any(c.reaction_kind == "servo" for c in model.constraints) and not any(qd):
+        found = servo_equilibrium(model, q)
+        notes.append(found.note())
+        equilibrium = found.to_dict()
     return CheckReport(model.name, model.source, list(model.coordinates), model.parameter_values,
-                       cons, contacts, counts, determinacy, initial, mode.label(), notes)
+                       cons, contacts, counts, determinacy, initial, mode.label(), notes, equilibrium)
 
 
 def servo_notes(dyn) -> list[str]:
