@@ -136,3 +136,19 @@ def test_an_ordinary_servo_constraint_is_not_differentiated():
     model = load_model(DATA_DIR / "servo_parabola.toml")
     reach = dynamics_of(model).servo_reach["program"]
     assert reach.order == 2 and reach.conditions == ()
+
+
+def test_beghin_remark_the_motion_ignores_the_auxiliary_system():
+    # Beghin's special cases 3-4 (Appell 1911, servo-constraints, remark 2): when the reactions
+    # of the second kind come from an auxiliary body (here the wheel's carriage, moved by u),
+    # the programmed motion does not depend on that body's inertia nor on the forces on it --
+    # only the control does
+    times = np.linspace(0.0, 0.5, 6)
+    base = simulate(reg.build(t_end=0.5), times=times)
+    other = simulate(reg.build(t_end=0.5, m=5.0, f=0.6), times=times)
+    assert np.max(np.abs(other.q - base.q)) < 1e-10
+    u_base, u_other = base.controls["speed"]["force"], other.controls["speed"]["force"]
+    p = reg.DEFAULTS
+    # u = m rho'' + f (N1 + N2): the difference is the carriage's own inertia and friction
+    expected = (5.0 - p["m"]) * base.qdd[:, 3] + (0.6 - p["f"]) * (p["N1"] + p["N2"])
+    assert np.max(np.abs(u_other - u_base - expected)) < 1e-9
