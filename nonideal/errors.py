@@ -27,6 +27,8 @@ __all__ = [
     "MechanicsError",
     "PainleveParadox",
     "IndeterminateSystem",
+    "NotAnEquilibrium",
+    "LinearizationUndefined",
     "did_you_mean",
 ]
 
@@ -200,3 +202,16 @@ class PainleveParadox(MechanicsError):
 
 class IndeterminateSystem(MechanicsError):
     """A servo system with fewer/more program constraints than control unknowns."""
+
+
+class NotAnEquilibrium(ModelError):
+    """The state given for a stability analysis is not an equilibrium / steady motion and none
+    was found near it (the message gives the residual rates and the fix)."""
+
+
+class LinearizationUndefined(MechanicsError):
+    """The first approximation does not exist at the state: dependent (singular) constraint
+    rows, or accelerations the constraints leave undetermined."""
+
+    def __init__(self, explanation: str, **kw):
+        super().__init__("the linearization is undefined: " + explanation, **kw)

@@ -142,3 +142,35 @@ def plot_trajectory(traj, path, title: str | None = None) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=110, format="png")
     plt.close(fig)
+
+
+def plot_stability(result, path) -> None:
+    """The eigenvalues of a linearization in the complex plane (the stability boundary is the
+    imaginary axis); for a programmed motion the logarithmic norm mu(A(t)) and the real parts
+    of the frozen eigenvalues against t (Persidsky's bound needs int mu dt < 0)."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.8))
+    if hasattr(result, "lognorm"):
+        t = np.asarray(result.t)
+        ax.plot(t, result.lognorm, label="logarithmic norm mu(A(t))")
+        re = np.array([np.sort(np.linalg.eigvals(A).real)[::-1] for A in result.A])
+        for k in range(re.shape[1]):
+            ax.plot(t, re[:, k], "--", lw=1, label=f"Re eig {k + 1} of A(t) (frozen)")
+        ax.axhline(0.0, color="k", lw=0.8)
+        ax.set_xlabel("t")
+        ax.set_title(f"{result.model}: {result.verdict}")
+        ax.legend(fontsize=8)
+    else:
+        eig = np.asarray(result.eigenvalues)
+        ax.axvline(0.0, color="k", lw=0.8)
+        ax.axhline(0.0, color="k", lw=0.5)
+        ax.plot(eig.real, eig.imag, "x", ms=9, mew=2, label="eigenvalues of A")
+        reg = getattr(result, "closed_loop", None)
+        if reg is not None:
+            ax.plot(reg.real, reg.imag, "o", mfc="none", label="closed loop (LQR)")
+        ax.set_xlabel("Re s")
+        ax.set_ylabel("Im s")
+        ax.set_title(f"{result.model}: {result.verdict}")
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
