@@ -371,19 +371,20 @@ class Dynamics:
         program in which its control appears, the conditions of dynamics that hold along the
         motion, and the row that stands for the program in the equations of motion (the program
         itself when its control appears at acceleration level)."""
+        out = {}
+        if self.model.contacts or not any(c.reaction is not None and c.root is None
+                                          for c in self.model.constraints):
+            # (a contact's normal force and friction can carry the control to the program in
+            # ways this analysis of the bilateral rows does not see: keep the programs as given)
+            return out
         base = {c.name: self._row(c) for c in self.model.constraints if c.root is None}
         base.update({name: row for name, (row, _) in self.control_rows.items()})
-        out = {}
-        if self.model.contacts:
-            # a contact's normal force and friction can carry the control to the program in
-            # ways this analysis of the bilateral rows does not see: keep the programs as given
-            return out
         single = [base[c.name] for c in self.model.constraints
                   if c.reaction is not None and c.root is None]
         if directions_dependent(self, single):
             return out          # r > j: Beghin's count, reported by the diagnosis of the system
         for c in self.model.constraints:
-            if c.reaction_kind != "servo" or c.root is not None or c.controls is not None:
+            if c.reaction is None or c.root is not None:
                 continue
             others = [r for name, r in base.items() if name != c.name and not r.unilateral]
             out[c.name] = reach(self, base[c.name], others, self._condition_row)

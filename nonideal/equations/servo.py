@@ -1,4 +1,12 @@
-"""Servo-constraints whose control reaches the program only through the dynamics.
+"""Servo-constraints beyond the ordinary case, as rows of the equations of motion.
+
+Three transformations, each a symbolic solve of the other constraints' saddle-point system:
+:func:`reach` (a control that reaches its program only through the dynamics, below),
+:func:`root_row` (a second-order constraint nonlinear in the accelerations, with a root rule)
+and :func:`least_cost_direction` (several control directions for one program, Béghin's r < j,
+resolved by the least quadratic cost).
+
+**Controls acting through the dynamics.**
 
 A servo-constraint (Béghin 1922; Appell 1911) is a program ``phi(q, q', t) = 0`` realized by a
 control force ``D u`` of given direction ``D``.  At acceleration level the program reads
@@ -52,7 +60,7 @@ class Condition:
     """A condition on the state that must hold along the motion (checked at the initial state).
 
     ``position`` (f(q, t), or None) and ``velocity`` (its time derivative, or phi(q, q', t))
-    play the roles they play in a constraint row; ``G`` is d(velocity)/dq'."""
+    play the roles they play in a constraint row; ``G`` is the row's gradient."""
 
     name: str
     position: object
