@@ -20,7 +20,7 @@ import numpy as np
 from scipy.linalg import qr
 
 from .contact_kernel import contact_kernel_of
-from ..errors import InconsistentInitialConditions, NonidealError
+from ..errors import InconsistentInitialConditions, MechanicsError, NonidealError
 from .kernel import Kernel, kernel_of, parameter_vector, root_failure
 
 __all__ = ["complete_state", "project_state", "project_positions", "project_velocities",
@@ -231,6 +231,7 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
             if found:
                 break
         if not found:
+            _unreachable_program(levels, t0, q, qd, miss_v)
             raise InconsistentInitialConditions(
                 _missing_values(names, [], 0, miss_v, _undetermined(levels, vel_eq, miss_v, t0, q, qd)),
                 _src(model))
@@ -252,6 +253,29 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     qd = _project(levels, vel_eq, t0, q, qd, "vel")
     closed_constraints = [rows[i].index for i in closed if rows[i].kind == "constraint"]
     return q, qd, closed_constraints
+
+
+def _unreachable_program(levels: _Levels, t, q, qd, missing) -> None:
+    """A servo-constraint whose control acts through the dynamics and whose condition of
+    dynamics, at the initial configuration, neither holds nor depends on the velocities left
+    free: no motion from this state keeps the program (exit code 3, the program and the order
+    of the derivative tried named)."""
+    kernel = levels.kernel
+    G, _, vel = levels(t, q, qd)
+    for name, reached in kernel.dyn.servo_reach.items():
+        i = kernel.row_index[name]
+        if reached.order <= 2 or reached.row.velocity is None:
+            continue
+        free = np.abs(G[i, missing]).max() if missing else 0.0
+        if free <= 1e-12 * (1.0 + np.abs(G[i]).max()) and abs(vel[i]) > GIVEN_TOL * _scale(qd):
+            state = {c: float(v) for c, v in zip(kernel.model.coordinates, q)}
+            raise MechanicsError(
+                f"servo-constraint '{name}' cannot be kept from the initial state: its control acts "
+                f"through the dynamics (the program differentiated to order {reached.order}) and its "
+                f"condition of dynamics is violated (value {vel[i]:.6g}) without depending on the "
+                f"free velocities {', '.join(kernel.model.coordinates[j] + chr(39) for j in missing)} "
+                "here: the control cannot reach the program at this configuration; start elsewhere",
+                t, state, details={"program": name, "order_tried": reached.order})
 
 
 def _require_finite(levels, G, pos, vel, t, q, model) -> None:

@@ -152,3 +152,12 @@ def test_beghin_remark_the_motion_ignores_the_auxiliary_system():
     # u = m rho'' + f (N1 + N2): the difference is the carriage's own inertia and friction
     expected = (5.0 - p["m"]) * base.qdd[:, 3] + (0.6 - p["f"]) * (p["N1"] + p["N2"])
     assert np.max(np.abs(u_other - u_base - expected)) < 1e-9
+
+
+def test_a_program_unreachable_at_t0_is_exit_3_with_the_order_tried():
+    # with the wheel at the axis of shaft 2 (rho = 0) it transmits no torque: the condition of
+    # dynamics (3.3) reads M2 = 0 whatever rho' -- the control cannot keep phi2' = w0 from there
+    with pytest.raises(MechanicsError, match="'speed' cannot be kept from the initial state") as info:
+        simulate(reg.build(t_end=0.1, rho0=0.0))
+    assert info.value.exit_code == 3
+    assert info.value.details == {"program": "speed", "order_tried": 3}
