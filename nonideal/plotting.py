@@ -56,13 +56,15 @@ def _hermite(t: np.ndarray, y: np.ndarray, dy: np.ndarray, points: int = 12):
 
 
 def plot_trajectory(traj, path, title: str | None = None) -> None:
-    """Write a PNG with the coordinates, velocities, multipliers/contact forces and energy.
+    """Write a PNG with the coordinates, velocities, multipliers/contact forces, energy and,
+    for servo-constraints, the control forces with their work.
 
     Event times are marked with vertical lines; contact modes (when there are contacts) are
     drawn as a timeline whose legend lists the states that occur (:func:`mode_colors`).
     """
     has_contacts = bool(traj.contacts)
-    panels = 4 + (1 if has_contacts else 0)
+    controls = getattr(traj, "controls", {}) or {}
+    panels = 4 + (1 if has_contacts else 0) + (1 if controls else 0)
     fig, axes = plt.subplots(panels, 1, figsize=(8, 2.3 * panels), sharex=True)
     t = traj.t
     ax = axes[0]
@@ -104,8 +106,19 @@ def plot_trajectory(traj, path, title: str | None = None) -> None:
     ax2.set_ylabel("balance residual", color="0.5")
     ax.set_ylabel("energy")
     ax.legend(loc="best", fontsize=8)
-    if has_contacts:
+    if controls:
         ax = axes[4]
+        for name, c in controls.items():
+            ax.plot(t, c["force"], label=f"u {name}")
+        ax.set_ylabel("control force")
+        ax2 = ax.twinx()
+        for name, c in controls.items():
+            ax2.plot(t, c["work"], "--", lw=0.9, label=f"work of u {name}")
+        ax2.set_ylabel("control work")
+        handles = ax.get_lines() + ax2.get_lines()
+        ax.legend(handles, [h.get_label() for h in handles], loc="best", fontsize=8)
+    if has_contacts:
+        ax = axes[-1]
         names = list(traj.contacts)
         colors = mode_colors(traj)
         for k, name in enumerate(names):
