@@ -9,6 +9,7 @@ from ..equations.eom import EquationsOfMotion
 from ..equations.formalisms import derive as derive_symbolic
 from ..equations.dynamics import ConstraintRow
 from ..modeling.model import Model
+from ..modes.routes import route_for
 from ..numeric.consistency import initial_branch
 
 __all__ = ["derive"]
@@ -27,6 +28,6 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
     >>> derive(gallery.load("chaplygin-sleigh"), "maggi").unknowns
     ("x''", "theta''")
     """
-    if branch is None and form == "lagrange2":
+    if branch is None and route_for(form).charts:
         branch = initial_branch(model)
     return derive_symbolic(model, form, rows=rows, independent=independent, branch=branch)

@@ -428,9 +428,6 @@ class ContactData:
     restitution: float
 
 
-_CACHE: dict[int, tuple[Model, Dynamics]] = {}
-
-
 def _source(model: Model) -> str | None:
     """The model file to name in an error (None for a model built in Python)."""
     return None if model.source == "<api>" else model.source
@@ -438,15 +435,7 @@ def _source(model: Model) -> str | None:
 
 def dynamics_of(model: Model) -> Dynamics:
     """The (cached) symbolic kernel of *model*.  Models are immutable, so caching is safe."""
-    key = id(model)
-    hit = _CACHE.get(key)
-    if hit is not None and hit[0] is model:
-        return hit[1]
-    dyn = Dynamics(model)
-    if len(_CACHE) > 64:
-        _CACHE.clear()
-    _CACHE[key] = (model, dyn)
-    return dyn
+    return model.cached("dynamics", lambda: Dynamics(model))
 
 
 def count_ops(exprs) -> int:

@@ -306,19 +306,9 @@ class Kernel:
         return pos, vel
 
 
-_KERNELS: dict[int, tuple[Model, Kernel]] = {}
-
-
 def kernel_of(model: Model) -> Kernel:
     """The (cached) compiled kernel of *model*."""
-    hit = _KERNELS.get(id(model))
-    if hit is not None and hit[0] is model:
-        return hit[1]
-    k = Kernel(model)
-    if len(_KERNELS) > 32:
-        _KERNELS.clear()
-    _KERNELS[id(model)] = (model, k)
-    return k
+    return model.cached("kernel", lambda: Kernel(model))
 
 
 class FormSystem:
