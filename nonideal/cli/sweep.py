@@ -171,6 +171,9 @@ def run(args) -> int:
             axes.append(parse_vary(item))
         except ModelError as exc:
             problems += exc.problems
+    if "-" in (args.json, args.csv):
+        problems.append("--json/--csv: give a file name (the sweep journals every finished point "
+                        "next to it, OUT.journal, for --resume)")
     if args.workers is not None and args.workers < 1:
         problems.append(f"--workers: must be at least 1 (got {args.workers})")
     if args.plot and len(axes) > 2:

@@ -604,9 +604,6 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
 
 
 class _ConstraintSpec(dict):
-    def __init__(self, **kw):
-        super().__init__(**kw)
-
     def build(self) -> Constraint:
         return Constraint(self["name"], self["expr"], self["kind"], self["unilateral"],
                           self["reaction"], self["transform"], restitution=self["restitution"],

@@ -396,17 +396,12 @@ class Normalizer:
                 if c.reaction is not None:
                     self.problems.append(f"{where}: give either 'reaction' (servo) or 'transform' (quasi-ideal), not both")
                     continue
-            losses = None
-            if c.losses is not None:
-                losses = self.vector(c.losses, f"{where}: losses", (m.n_q,), order=0)
-                if losses is None:
-                    continue
-                params = {sp.Symbol(n) for n in m.parameters}
-                others = sorted({str(s) for e in losses for s in e.free_symbols} - {str(s) for s in params})
-                if others:
-                    self.problems.append(f"{where}: losses must be numbers or expressions in the "
-                                         f"parameters (got {', '.join(others)})")
-                    continue
+            losses = self.vector(c.losses, f"{where}: losses", (m.n_q,)) if c.losses is not None else None
+            others = sorted({str(s) for e in losses or () for s in e.free_symbols} - set(m.parameters))
+            if c.losses is not None and (losses is None or others):
+                self.problems += [f"{where}: losses must be numbers or expressions in the parameters "
+                                  f"(got {', '.join(others)})"] if others else []
+                continue
             kind = "holonomic" if order == 0 else "nonholonomic"
             restitution = float(c.restitution)
             if not 0.0 <= restitution <= 1.0:

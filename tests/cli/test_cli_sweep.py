@@ -62,6 +62,9 @@ def test_bad_options_exit_2_naming_them(tmp_path):
     r = run_cli("sweep", BLOCK, "--vary", "mu=0:1:3", "--what", "simulate", "--about", "steady",
                 "--json", tmp_path / "s.json")
     assert r.returncode == 2 and "--about: an option of --what stability" in r.stderr
+    r = run_cli("sweep", BLOCK, "--vary", "mu=0:1:3", "--what", "evaluate", "--json", "-",
+                cwd=tmp_path)
+    assert r.returncode == 2 and "give a file name" in r.stderr and not list(tmp_path.iterdir())
     assert not (tmp_path / "s.json").exists() and not (tmp_path / "s.json.journal").exists()
 
 
