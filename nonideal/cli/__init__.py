@@ -36,6 +36,18 @@ def version() -> str:
         return __version__
 
 
+class _Version(argparse.Action):
+    """``--version``: the version is looked up only when asked for (the package metadata
+    costs a tenth of a second to read)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"nonideal {version()}")
+        parser.exit()
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .common import ParserContext
 
@@ -43,7 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="nonideal",
         description="Analytical dynamics of systems with ideal and non-ideal constraints.",
         epilog="Exit codes: 0 success, 2 bad input, 3 mechanics without a consistent or unique answer.")
-    p.add_argument("--version", action="version", version=f"nonideal {version()}")
+    p.add_argument("--version", action=_Version, help="show the version and exit")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
     ctx = ParserContext()
     for name in COMMANDS:
