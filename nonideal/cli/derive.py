@@ -38,19 +38,9 @@ def run(args) -> int:
     well_posed_at_start(model)
     independent = parse_independent(args.independent, model, args.form)
     states = parse_contact_states(args.contact, model)
-    if args.friction == "painleve":
-        from ..analysis.friction_law import painleve_model, touching_contacts
-
-        closed = touching_contacts(model, states) if model.contacts else None
-        eom = derive(painleve_model(model, closed)[0], args.form, independent=independent)
-    elif model.contacts:
-        from ..analysis.friction_law import derive_in_mode
-
-        eom = derive_in_mode(model, args.form, states, independent)
-    else:
-        if states:
-            raise ModelError("--contact: the model has no [[contacts]]")
-        eom = derive(model, args.form, independent=independent)
+    if states and not model.contacts:
+        raise ModelError("--contact: the model has no [[contacts]]")
+    eom = derive(model, args.form, independent=independent, contacts=states, friction=args.friction)
     outputs = Outputs()
     if args.json:
         emit_json(args, eom.to_dict(), outputs)
