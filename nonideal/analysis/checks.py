@@ -146,7 +146,9 @@ def _coulomb_contacts(solver, t, q, qd, mode) -> dict[str, dict[str, Any]]:
     from ..modes.switching import critical_friction
     from ..modes.types import SLIDE, ContactState
 
-    out = {}
+    out: dict[str, dict[str, Any]] = {}
+    if not mode.contacts:
+        return out
     cout = solver.ck(solver.input(t, q, qd))
     for c, (name, cs) in enumerate(mode.contacts):
         data = solver.ck.data[c]

@@ -63,12 +63,23 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _bare_json(argv: list[str]) -> list[str]:
+    """``--json MODEL.toml`` (a bare ``--json`` before the model) means JSON on standard output
+    for that model -- not JSON written over the model file, which is what argparse's optional
+    value would make of it.  A value ending in ``.toml`` is never a JSON output."""
+    out = list(argv)
+    for i, item in enumerate(out[:-1]):
+        if item == "--json" and out[i + 1].endswith(".toml"):
+            out[i] = "--json=-"
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     from .common import numerical_warnings
 
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
+        args = parser.parse_args(_bare_json(sys.argv[1:] if argv is None else list(argv)))
     except SystemExit as exc:   # --help (0) or a usage error (2): return, do not exit
         return int(exc.code or 0)
     try:

@@ -52,3 +52,17 @@ def test_examples_list_columns_are_aligned():
     assert len(lines) == len(gallery.names())
     starts = {len(line) - len(line[len(name):].lstrip()) for line, name in zip(lines, gallery.names())}
     assert len(starts) == 1, starts
+
+
+def test_bare_json_before_the_model_is_standard_output(tmp_path):
+    import shutil
+
+    from tests.helpers import DATA_DIR
+
+    model = tmp_path / "r.toml"
+    shutil.copy(DATA_DIR / "servo_parabola.toml", model)
+    before = model.read_text()
+    proc = run_cli("check", "--json", model)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.lstrip().startswith("{") and '"model"' in proc.stdout
+    assert model.read_text() == before                 # the model was not taken as the output
