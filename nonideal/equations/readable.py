@@ -117,6 +117,7 @@ class Printer:
         self._keys: dict[Any, tuple] = {}
         self._se_cache: dict[Any, Poly] = {}
         self._fcache: dict[Any, tuple] = {}
+        self._lcache: dict[Any, Any] = {}
         self._holders: dict[Any, Any] = {}     # opaque subexpression -> placeholder symbol
         self._held: dict[str, Any] = {}        # placeholder name -> opaque subexpression
 
@@ -162,7 +163,14 @@ class Printer:
 
     # ------------------------------------------------------------------ parsing
     def _linear(self, arg) -> tuple | None:
-        """``arg`` as a canonical linear combination of symbols, or None."""
+        """``arg`` as a canonical linear combination of symbols, or None (cached)."""
+        try:
+            return self._lcache[arg]
+        except KeyError:
+            out = self._lcache[arg] = self._linear_of(arg)
+            return out
+
+    def _linear_of(self, arg) -> tuple | None:
         terms: dict[str, Fraction] = {}
         for t in (arg.args if isinstance(arg, se.Add) else (arg,)):
             if isinstance(t, se.Symbol):
@@ -415,32 +423,35 @@ class Printer:
     def content(self, poly: Poly) -> tuple[Any, tuple]:
         """(number, monomial) common to every term: rational gcd (negative when every term
         is), the smallest positive powers common to all (denominators stay with their terms)."""
-        items = list(poly.items())
-        coeffs = [c for _, c in items]
-        if all(_exact(c) for c in coeffs):
+        coeffs = list(poly.values())
+        if all(isinstance(c, int) for c in coeffs):
+            num = 0
+            for c in coeffs:
+                num = gcd(num, c)
+            number: Any = num or 1
+        elif all(_exact(c) for c in coeffs):
             num = 0
             den = 1
             for c in coeffs:
                 c = Fraction(c)
                 num = gcd(num, c.numerator)
                 den = den * c.denominator // gcd(den, c.denominator)
-            number: Any = _norm(Fraction(num, den)) if num else 1
+            number = _norm(Fraction(num, den)) if num else 1
         else:
             number = 1
         if all(c < 0 for c in coeffs):
             number = -number
-        common: dict = {}
-        first = True
-        for m, _ in items:
+        monomials = iter(poly)
+        common = {f: p for f, p in next(monomials) if p > 0}
+        for m in monomials:
+            if not common:
+                break
             powers = dict(m)
-            if first:
-                common = {f: p for f, p in powers.items() if p > 0}
-                first = False
-                continue
             for f in list(common):
-                p, q = common[f], powers.get(f, 0)
-                if p > 0 and q > 0:
-                    common[f] = min(p, q)
+                q = powers.get(f, 0)
+                if q > 0:
+                    if q < common[f]:
+                        common[f] = q
                 else:
                     del common[f]
         return number, self.monomial(common)
@@ -459,13 +470,20 @@ class Printer:
         return self.monomial(common or {})
 
     def divide(self, poly: Poly, number, mono: tuple) -> Poly:
-        inv = {f: -p for f, p in mono}
         out = {}
+        exact = _exact(number)
         for m, c in poly.items():
-            if _exact(c) and _exact(number):
-                out[self._shift(m, inv)] = _norm(Fraction(c) / number)
+            if mono:
+                powers = dict(m)
+                for f, p in mono:
+                    powers[f] = powers.get(f, 0) - p
+                m = frozenset((f, p) for f, p in powers.items() if p)
+            if number == 1:
+                out[m] = c
+            elif exact and _exact(c):
+                out[m] = _norm(Fraction(c) / number)
             else:
-                out[self._shift(m, inv)] = c / float(number)
+                out[m] = c / float(number)
         return out
 
     # ------------------------------------------------------------------ printing
@@ -705,6 +723,8 @@ class Printer:
     @staticmethod
     def _grouped(text: str, latex: bool) -> bool:
         """Whether *text* is a product (no sum at its top level)."""
+        if " + " not in text and " - " not in text:
+            return True
         depth = 0
         opening, closing = (r"\left(", r"\right)") if latex else ("(", ")")
         i = 0
