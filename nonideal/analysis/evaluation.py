@@ -1,5 +1,5 @@
 """The motion at one state: accelerations, multipliers, reactions split into constraint and
-friction parts (Painleve's split, seed 000 section 1.2).
+friction parts (Painleve's split, Manglieva & Beknazarov 2022, section 1.2).
 
 For the constraint Jacobian ``G`` of the active constraints (as ideal constraints) and the
 possible velocities ``V`` (``G V = 0``), every generalized reaction decomposes uniquely as
@@ -49,7 +49,7 @@ class Evaluation:
     split_available: bool
 
     def to_dict(self) -> dict[str, Any]:
-        """The SPEC's JSON structure of ``evaluate``."""
+        """The JSON structure of ``evaluate --json`` (keys fixed; more may be added)."""
         c = self.coordinates
         return {
             "model": self.model, "form": self.form, "t": self.t,
@@ -65,8 +65,8 @@ class Evaluation:
 
     def reaction_total(self) -> dict[str, list[float]]:
         """The total generalized reaction ``M q'' - F`` and its Painleve split, summed over all
-        constraints and contacts: ``G^T lambda`` and the seed's friction force ``M V mu``
-        (seed 000, (1.14)-(1.17))."""
+        constraints and contacts: ``G^T lambda`` and Manglieva & Beknazarov's friction force ``M V mu``
+        (Manglieva & Beknazarov 2022, (1.14)-(1.17))."""
         n = len(self.coordinates)
         out = {}
         for key in ("generalized", "constraint_part", "friction_part"):
@@ -101,7 +101,7 @@ class Evaluation:
         if self.split_available and len(self.reactions) > 1 and any(
                 any(v != 0 for v in r.get("friction_part", ())) for r in self.reactions.values()):
             tot = self.reaction_total()
-            lines.append("  all reactions (the friction parts add up to the seed's friction force "
+            lines.append("  all reactions (the friction parts add up to Manglieva & Beknazarov's friction force "
                          "M V mu)")
             lines.append(f"    total (generalized)    = {_fmt(tot['generalized'])}")
             lines.append(f"    constraint part        = {_fmt(tot['constraint_part'])}")
@@ -218,9 +218,9 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
         not depend on friction) and the friction part ``R_j - G_j^T lambda_j``, what friction
         adds to that row's reaction: at the contact its friction force and the change of its
         normal force, at an ideal constraint the change of its reaction that friction elsewhere
-        causes (seed 000, (1.14)-(1.17); zero in a frictionless system).  Each row's parts add
+        causes (Manglieva & Beknazarov 2022, (1.14)-(1.17); zero in a frictionless system).  Each row's parts add
         up to its reaction; summed over all rows the friction parts are ``M V mu``, the
-        friction force of the seed, which accelerates along possible velocities only (a single
+        friction force of the paper, which accelerates along possible velocities only (a single
         row's friction part need not).  Where the
         reactions are statically indeterminate (dependent rows: a ladder sticking at a rough
         wall and floor), the multipliers and contact forces are the admissible distribution

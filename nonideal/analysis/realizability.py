@@ -1,4 +1,4 @@
-"""Realizability of nonholonomic (no-slip) constraints by Coulomb friction (seed 001).
+"""Realizability of nonholonomic (no-slip) constraints by Coulomb friction (Kalinin & Novozhilov).
 
 Kalinin & Novozhilov: for ``V' = g + sum_s b_s f_s`` with Coulomb forces ``f_s = -f_s0 sign U_s``
 the sticking motion ``U_s = 0`` is realized by friction -- and the regularized system (the
@@ -12,8 +12,8 @@ friction in a contact plane).  The roots are exactly the reactions of the no-sli
   contact sticking, compared with ``mu_s N``, with the margin;
 * :func:`realizability_along` -- along the rolling motion, the first time rolling stops being
   realizable (the needed friction reaches ``mu_s N``) or the contact lifts off;
-* :func:`regularized` -- the model with the epsilon-linear (or smooth) friction law of the
-  seed, whose solutions tend to the sticking one as ``eps -> 0``.
+* :func:`regularized` -- the model with the epsilon-linear (or smooth) friction law of
+  Kalinin & Novozhilov, whose solutions tend to the sticking one as ``eps -> 0``.
 """
 
 from __future__ import annotations
@@ -236,7 +236,7 @@ def realizability_along(model: Model, t_end: float | None = None, samples: int =
 
 
 def regularized(model: Model, eps: float, law: str = "linearized") -> Model:
-    """The model with every Coulomb contact replaced by the epsilon-linear law of seed 001
+    """The model with every Coulomb contact replaced by the epsilon-linear law of Kalinin & Novozhilov
     (``law="linearized"``: ``F = -mu N U/eps`` for ``|U| <= eps``) or the smooth law
     (``law="smooth"``: ``F = -mu N U/sqrt(|U|^2 + eps^2)``)."""
     cls = {"linearized": LinearizedCoulomb, "smooth": RegularizedCoulomb}.get(law)

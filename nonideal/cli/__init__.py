@@ -69,7 +69,8 @@ def _bare_json(argv: list[str]) -> list[str]:
     value would make of it.  A value ending in ``.toml`` is never a JSON output."""
     out = list(argv)
     for i, item in enumerate(out[:-1]):
-        if item == "--json" and out[i + 1].endswith(".toml"):
+        if (item == "--json" and out[i + 1].endswith(".toml")
+                and not any(a.endswith(".toml") for a in out[1:i])):   # no model before it
             out[i] = "--json=-"
     return out
 

@@ -25,7 +25,7 @@ def add_parser(sub, ctx) -> None:
     d.add_argument("--friction", choices=["physical", "painleve"], default="physical",
                    help="physical: a sliding contact's normal force carries -mu N s (default); "
                    "painleve: the touching contacts (at t0, or not separated by --contact) as ideal "
-                   "constraints plus the friction force M V mu of the seed's extended method of "
+                   "constraints plus the friction force M V mu of Manglieva & Beknazarov's extended method of "
                    "combining constraints")
     d.set_defaults(func=run)
 

@@ -69,7 +69,8 @@ from ..modeling.model import Model
 
 NAME = "painleve-rod"
 ORDER = 42
-TITLE = "Painleve's rod on a rough floor: paradox for mu > (1 + 3cos^2 theta)/(3 sin theta cos theta) (min 4/3)"
+TITLE = ("Painleve's rod on a rough floor: paradox for mu > (1 + 3cos^2 theta)/(3 sin theta cos "
+         "theta) (Painleve 1895; at least 4/3)")
 FILE = "painleve_rod.toml"
 
 #: angles at which run() prints the critical coefficient

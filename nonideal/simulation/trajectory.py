@@ -201,7 +201,7 @@ class Trajectory:
                   f"{final}</table></div>")
 
     def to_dict(self) -> dict[str, Any]:
-        """The SPEC's JSON structure of ``simulate`` (non-finite numbers become ``null``)."""
+        """The JSON structure of ``simulate --json`` (non-finite numbers become ``null``)."""
         def arr(a):
             return [float(x) if np.isfinite(x) else None for x in a]
         return {
