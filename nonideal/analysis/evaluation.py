@@ -15,6 +15,8 @@ reaction, ``R_j - G_j^T lambda_j``; their sum over the rows is ``P R``.
 
 from __future__ import annotations
 
+from ..numeric.display import number, numbers
+
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -80,20 +82,22 @@ class Evaluation:
     def as_text(self) -> str:
         lines = [f"{self.model} at t = {self.t:g}  (form: {self.form}, mode: {self.mode})"]
         width = max(len(n) for n in self.coordinates) + 2
+        sq, sv, sa = (max(np.max(np.abs(a)), 1.0) for a in (self.q, self.qd, self.qdd))
         for i, n in enumerate(self.coordinates):
-            lines.append(f"  {n:<{width}} = {self.q[i]: .10g}   {n}' = {self.qd[i]: .10g}   "
-                         f"{n}'' = {self.qdd[i]: .10g}")
+            lines.append(f"  {n:<{width}} = {number(self.q[i], sq, 10, True)}   "
+                         f"{n}' = {number(self.qd[i], sv, 10, True)}   "
+                         f"{n}'' = {number(self.qdd[i], sa, 10, True)}")
         for name, value in self.multipliers.items():
             r = self.reactions[name]
             if name in self.contacts:
                 c = self.contacts[name]
-                lines.append(f"  contact {name}: {c['mode']}, N = {c['normal']: .10g}, "
+                lines.append(f"  contact {name}: {c['mode']}, N = {number(c['normal'], None, 10, True)}, "
                              f"F = {_fmt(c['friction'])}, slip = {_fmt(c['slip'])}, gap = {c['gap']:.3g}")
                 if "margin" in c:
                     lines.append(f"    sticking: friction needed {c['friction_needed']:.8g} of "
                                  f"mu_s N = {c['friction_available']:.8g} (margin {c['margin']:.6g})")
             else:
-                lines.append(f"  lambda_{name} = {value: .10g}")
+                lines.append(f"  lambda_{name} = {number(value, None, 10, True)}")
             lines.append(f"    reaction (generalized) = {_fmt(r['generalized'])}")
             if self.split_available:
                 lines.append(f"    constraint part        = {_fmt(r['constraint_part'])}")
@@ -110,7 +114,7 @@ class Evaluation:
 
 
 def _fmt(values) -> str:
-    return "[" + ", ".join(f"{v:.8g}" for v in values) + "]"
+    return numbers(values)
 
 
 def parse_state(model: Model, text: str | None) -> dict[str, float]:

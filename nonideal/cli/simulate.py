@@ -90,8 +90,12 @@ def run(args) -> int:
         d = traj.diagnostics
         print(f"{traj.model}: simulated t = {traj.t[0]:g} .. {traj.t[-1]:g} "
               f"({d['samples']} samples, {d['events']} events, form {d['form']}, {d['method']})")
-        for k, c in enumerate(traj.coordinates):
-            print(f"  {c:>10}(t_end) = {traj.q[-1, k]: .12g}   {c}'(t_end) = {traj.qd[-1, k]: .12g}")
+        from ..numeric.display import number
+
+        for k, c in enumerate(traj.coordinates):   # noise against the coordinate's range: 0
+            sq, sv = float(abs(traj.q[:, k]).max()), float(abs(traj.qd[:, k]).max())
+            print(f"  {c:>10}(t_end) = {number(traj.q[-1, k], sq, 12, True)}   "
+                  f"{c}'(t_end) = {number(traj.qd[-1, k], sv, 12, True)}")
         shown = traj.events if len(traj.events) <= 24 else traj.events[:20]
         for e in shown:
             print(f"  event at t = {e['t']:.12g}: {e['type']} {e.get('constraint', e.get('contact', ''))}"

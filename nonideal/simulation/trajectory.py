@@ -166,7 +166,13 @@ class Trajectory:
     # ---------------------------------------------------------------- outputs
     # ---------------------------------------------------------------- Jupyter
     def _final_rows(self) -> list[tuple[str, float, float]]:
-        return [(c, float(self.q[-1, k]), float(self.qd[-1, k])) for k, c in enumerate(self.coordinates)]
+        """(coordinate, value, velocity) at the end; rounding noise against the coordinate's
+        range as 0."""
+        from ..numeric.display import clean
+
+        return [(c, clean(self.q[-1, k], float(abs(self.q[:, k]).max())),
+                 clean(self.qd[-1, k], float(abs(self.qd[:, k]).max())))
+                for k, c in enumerate(self.coordinates)]
 
     def _repr_latex_(self) -> str:
         """Jupyter: the state at the end of the run."""
@@ -268,8 +274,10 @@ def _jsonable(obj):
     return obj
 
 
-def _tex_number(x: float) -> str:
-    text = f"{x:.10g}"
+def _tex_number(x: float, scale: float | None = None) -> str:
+    from ..numeric.display import number
+
+    text = number(x, scale)
     if "e" in text:
         mant, exp = text.split("e")
         return rf"{mant} \cdot 10^{{{int(exp)}}}"
