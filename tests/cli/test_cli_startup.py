@@ -66,3 +66,17 @@ def test_bare_json_before_the_model_is_standard_output(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.lstrip().startswith("{") and '"model"' in proc.stdout
     assert model.read_text() == before                 # the model was not taken as the output
+
+
+def test_one_typo_in_mu_gives_one_error(tmp_path):
+    from tests.helpers import DATA_DIR
+
+    text = (DATA_DIR.parent.parent / "docs" / "rod.toml").read_text()
+    model = tmp_path / "typo.toml"
+    model.write_text(text.replace('mu = "mu"', 'mu = "muu"', 1))
+    proc = run_cli("check", model)
+    assert proc.returncode == 2
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1, lines
+    assert "contact 'A': mu: unknown symbol 'muu' (did you mean 'mu'?)" in lines[0]
+    assert "mu_static" not in proc.stderr
