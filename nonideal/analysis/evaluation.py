@@ -18,7 +18,7 @@ from __future__ import annotations
 from ..numeric.display import number, numbers
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -49,6 +49,7 @@ class Evaluation:
     reactions: dict[str, dict[str, list[float]]]
     contacts: dict[str, dict[str, Any]]
     split_available: bool
+    indeterminate: dict[str, Any] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON structure of ``evaluate --json`` (keys fixed; more may be added)."""
@@ -63,6 +64,7 @@ class Evaluation:
             "reaction_total": self.reaction_total(),
             "contacts": self.contacts,
             "mode": self.mode,
+            "indeterminate": self.indeterminate,
         }
 
     def reaction_total(self) -> dict[str, list[float]]:
@@ -110,6 +112,13 @@ class Evaluation:
             lines.append(f"    total (generalized)    = {_fmt(tot['generalized'])}")
             lines.append(f"    constraint part        = {_fmt(tot['constraint_part'])}")
             lines.append(f"    friction part          = {_fmt(tot['friction_part'])}")
+        if self.indeterminate:
+            lines.append("  statically indeterminate: the split of these forces is NOT unique (any "
+                         "split in the ranges below that keeps every contact admissible gives the "
+                         "same motion); shown: " + self.indeterminate["rule"])
+            for label, (lo, hi, shown) in self.indeterminate["ranges"].items():
+                lines.append(f"    {label}: shown {number(shown, None, 8)}, admissible from "
+                             f"{number(lo, None, 8)} to {number(hi, None, 8)}")
         return "\n".join(lines)
 
 
@@ -249,6 +258,31 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     return _report(model, form, t, q, qd, mode, sol, solver)
 
 
+def _indeterminate(solver, mode, sol, t, q, qd) -> dict[str, Any]:
+    """The rule and the admissible range of each statically indeterminate force (empty when
+    the mode's reactions are unique)."""
+    if not sol.layout or not solver.system(mode).dependent(sol.Gm):
+        return {}
+    from ..modes.indeterminate import admissible_ranges
+
+    cout = solver.ck(solver.input(t, q, qd)) if solver.ck else {}
+    ranges = admissible_ranges(solver, mode, sol.layout, sol.Bm, sol.M @ sol.qdd - sol.F, cout)
+    names = solver.ck.names if solver.ck else []
+    out = {}
+    for j, (lo, hi) in ranges.items():
+        r = sol.layout[j]
+        if r.kind == "constraint":
+            label = f"lambda_{solver.kernel.rows[r.index].name}"
+        elif r.kind == "normal":
+            label = f"N {names[r.index]}"
+        else:
+            label = f"F {names[r.index]}" + (f"[{r.k + 1}]" if solver.ck.dims[r.index] > 1 else "")
+        out[label] = [lo, hi, float(sol.values[j])]
+    return {"rule": "widest margin (the distribution maximizing the smallest of N, mu_s N - |F| "
+                    "and the held multipliers; the least-norm one among several)",
+            "ranges": out}
+
+
 def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
     kernel = solver.kernel
     n = kernel.n
@@ -315,4 +349,5 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
             info["constraint_multiplier"] = float(lam_split[name])
         contacts[name] = info
     return Evaluation(model.name, form, t, tuple(model.coordinates), q, qd, sol.qdd, mode.label(),
-                      multipliers, reactions, contacts, split is not None)
+                      multipliers, reactions, contacts, split is not None,
+                      _indeterminate(solver, mode, sol, t, q, qd))
