@@ -77,7 +77,7 @@ def run(args) -> int:
     if args.plot:
         from ..plotting import plot_trajectory
 
-        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(fine, tmp))
+        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(fine, tmp, model=model))
     stdout = None
     if args.json == "-":
         stdout = json.dumps(traj.to_dict(), indent=1, allow_nan=True)
