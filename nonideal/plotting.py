@@ -168,3 +168,92 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=110, format="png")
     plt.close(fig)
+
+
+def _geometry(model):
+    """Numeric functions of (q, params) for what can be drawn: particles (points), planar
+    bodies (the segment of the uniform rod with the same mass and central inertia, length
+    sqrt(12 J/m), through the centre along the body's angle), rigid bodies (the centre)."""
+    import sympy as sp
+
+    q = [sp.Symbol(c) for c in model.coordinates]
+    params = [sp.Symbol(p) for p in model.parameter_values]
+    t = sp.Symbol("t")
+    shapes = []
+    for b in model.bodies:
+        pos = [sp.sympify(x) for x in b.position][:2]
+        if len(pos) < 2:
+            continue
+        f_pos = sp.lambdify([t, q, params], pos, "numpy")
+        if getattr(b, "angle", None) is not None and getattr(b, "inertia", None) is not None:
+            length = sp.sqrt(12 * sp.sympify(b.inertia) / sp.sympify(b.mass))
+            f_ang = sp.lambdify([t, q, params], [sp.sympify(b.angle), length], "numpy")
+            shapes.append((b.name, "segment", f_pos, f_ang))
+        else:
+            shapes.append((b.name, "point", f_pos, None))
+    return shapes
+
+
+def animate_trajectory(traj, model, path, frames: int = 80, fps: int = 20) -> None:
+    """Write an animation of the motion (``.gif`` with Pillow, ``.mp4`` with ffmpeg): the
+    bodies drawn from the model's geometry (:func:`_geometry`), the contacts listed with their
+    mode coloured as in the plot's timeline, the time in the title."""
+    from matplotlib import animation
+
+    shapes = _geometry(model)
+    if not shapes:
+        from .errors import ModelError
+
+        raise ModelError("--animate: the model has no [[bodies]] to draw (its energy is written "
+                         "out); give the bodies' geometry in [[bodies]]")
+    p = list(model.parameter_values.values())
+    idx = np.unique(np.linspace(0, len(traj.t) - 1, min(frames, len(traj.t))).round().astype(int))
+    drawn = []
+    for k in idx:
+        items = []
+        for name, kind, f_pos, f_ang in shapes:
+            x, y = (float(v) for v in f_pos(traj.t[k], traj.q[k], p))
+            if kind == "segment":
+                ang, length = (float(v) for v in f_ang(traj.t[k], traj.q[k], p))
+                dx, dy = 0.5 * length * np.cos(ang), 0.5 * length * np.sin(ang)
+                items.append(([x - dx, x + dx], [y - dy, y + dy]))
+            else:
+                items.append(([x], [y]))
+        drawn.append(items)
+    xs = [v for fr in drawn for it in fr for v in it[0]]
+    ys = [v for fr in drawn for it in fr for v in it[1]]
+    span = max(max(xs) - min(xs), max(ys) - min(ys), 1e-9)
+    pad = 0.1 * span
+    fig, ax = plt.subplots(figsize=(6, 5))
+    ax.set_xlim(min(xs) - pad, max(xs) + pad)
+    ax.set_ylim(min(ys) - pad, max(ys) + pad)
+    ax.set_aspect("equal")
+    ax.grid(alpha=0.3)
+    ax.set_xlabel("x (model units)")
+    ax.set_ylabel("y (model units)")
+    artists = []
+    for name, kind, _, _ in shapes:
+        (line,) = ax.plot([], [], "-o" if kind == "segment" else "o", lw=3, ms=5, label=name)
+        artists.append(line)
+    colors = mode_colors(traj) if traj.contacts else {}
+    labels = [ax.text(0.02, 0.97 - 0.06 * j, "", transform=ax.transAxes, fontsize=9, va="top",
+                      bbox=dict(boxstyle="round", fc="white", ec="0.6"))
+              for j, _ in enumerate(traj.contacts)]
+    title = ax.set_title("")
+
+    def update(i):
+        k = idx[i]
+        for line, (xv, yv) in zip(artists, drawn[i]):
+            line.set_data(xv, yv)
+        for label, (name, c) in zip(labels, traj.contacts.items()):
+            mode = c["mode"][k].replace("(N<0)", "")
+            label.set_text(f"contact {name}: {mode}")
+            label.get_bbox_patch().set_facecolor(colors.get(mode, "white"))
+        title.set_text(f"{traj.model}   t = {traj.t[k]:.3f}")
+        return [*artists, *labels, title]
+
+    anim = animation.FuncAnimation(fig, update, frames=len(idx), blit=False)
+    suffix = str(path).rsplit(".", 1)[-1].lower()
+    writer = animation.PillowWriter(fps=fps) if suffix == "gif" else animation.FFMpegWriter(fps=fps)
+    anim.save(str(path), writer=writer)
+    plt.close(fig)

@@ -26,6 +26,8 @@ def add_parser(sub, ctx) -> None:
     json_option(s)
     s.add_argument("--csv", metavar="OUT", help="write the trajectory as CSV (at --times, else on 601 uniform samples)")
     s.add_argument("--plot", metavar="PNG", help="plot the trajectory, reactions and energy")
+    s.add_argument("--animate", metavar="GIF", help="animation of the motion (.gif; .mp4 needs "
+                   "ffmpeg): the bodies drawn from the model's geometry, each contact's mode coloured")
     s.set_defaults(func=run)
 
 
@@ -65,7 +67,7 @@ def run(args) -> int:
         raise explained(model, exc) from None
     outputs = Outputs()
     fine = traj
-    if (args.csv or args.plot) and times is None and len(traj.t) < PLOT_SAMPLES:
+    if (args.csv or args.plot or args.animate) and times is None and len(traj.t) < PLOT_SAMPLES:
         # the integrator's steps are far apart for a table or a drawing: the same run sampled
         # on a fine uniform grid (dense output; the events are in the JSON and on the plot)
         import numpy as np
@@ -74,6 +76,10 @@ def run(args) -> int:
         fine = simulate(model, t_end=traj.t[-1], times=grid, form=args.form, **options)
     if args.csv:
         outputs.add("--csv", args.csv, fine.to_csv)
+    if args.animate:
+        from ..plotting import animate_trajectory
+
+        outputs.add("--animate", args.animate, lambda tmp: animate_trajectory(fine, model, tmp))
     if args.plot:
         from ..plotting import plot_trajectory
 

@@ -29,3 +29,23 @@ def test_angles_lengths_units_and_names(tmp_path, monkeypatch):
     legend = [t.get_text() for t in axes[4].get_legend().get_texts()]
     assert "normal force A" in legend and "friction A" in legend
     assert not any("[" in s for s in legend)
+
+
+def test_animation_draws_the_bodies_and_the_contact_modes(tmp_path):
+    from PIL import Image
+
+    from nonideal.plotting import animate_trajectory
+
+    rod = nonideal.load_model(DATA_DIR.parent.parent / "docs" / "rod.toml")
+    traj = nonideal.simulate(rod, t_end=0.6, times=[0.0, 0.1, 0.3, 0.5, 0.6])
+    animate_trajectory(traj, rod, tmp_path / "rod.gif", frames=5, fps=5)
+    with Image.open(tmp_path / "rod.gif") as im:
+        assert im.n_frames == 5 and im.size[0] > 300
+
+
+def test_animate_option_checks_the_format_before_running(tmp_path):
+    from tests.helpers import run_cli
+
+    proc = run_cli("simulate", DATA_DIR.parent.parent / "docs" / "rod.toml", "--animate", tmp_path / "a.avi")
+    assert proc.returncode == 2 and "--animate" in proc.stderr and ".gif" in proc.stderr
+    assert list(tmp_path.iterdir()) == []
