@@ -243,7 +243,8 @@ def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = 
     import symengine as se
 
     from ..numeric.consistency import complete_state
-    from .derivation import derive
+    from ..equations.formalisms import derive as derive_symbolic
+    from ..numeric.consistency import initial_branch
     from ..modes.solver import ModeSolver
     from ..numeric.kernel import kernel_of, parameter_vector
     from ..modes.switching import select_mode
@@ -284,7 +285,8 @@ def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = 
         rows += dyn.contact_rows(c, "slide", 1, direction)
         notes.append(f"contact '{name}': sliding ({st}); its normal force N carries the friction "
                      "-mu N s" + ("" if d == 1 else " with s = U/|U| (symbols s[...])"))
-    eom = derive(model, form, rows=rows, independent=independent)
+    branch = initial_branch(model) if form == "lagrange2" else None   # as nonideal.derive does
+    eom = derive_symbolic(model, form, rows=rows, independent=independent, branch=branch)
     from dataclasses import replace as _replace
 
     return _replace(eom, notes=tuple(notes) + tuple(eom.notes))
