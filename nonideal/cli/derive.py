@@ -18,7 +18,7 @@ def add_parser(sub, ctx) -> None:
     fmt.add_argument("--latex", action="store_true", help="print LaTeX")
     json_option(fmt)
     d.add_argument("--independent", help="independent coordinates for the reduced forms, comma-separated")
-    d.add_argument("--simplify", action="store_true", help="trigsimp the printed equations (can be slow)")
+    d.add_argument("--simplify", action="store_true", help="SymPy's trigsimp of the raw equations instead of the readable default (slow: grows fast with the number of angles)")
     d.add_argument("--contact", action="append", metavar="NAME=STATE",
                    help="state of a contact: separated, stick, slide+, slide- (one slip component) "
                    "or slide (two); repeatable; default: its state at t0")
