@@ -68,7 +68,7 @@ class CheckReport:
         for ct in self.contacts:
             held = "= 0 (bilateral guide, N of either sign)" if ct["bilateral"] else ">= 0"
             lines.append(f"    - contact {ct['name']}: gap {ct['gap']} {held}, slip {ct['slip']}, "
-                         f"friction {ct['friction']}")
+                         f"friction {ct['friction']}" + friction_text(ct))
         lines.append("  initial state: " + ", ".join(f"{k} = {v:.10g}" for k, v in self.initial.items()))
         lines.append(f"  initial mode: {self.initial_mode}")
         lines += [f"  note: {n}" for n in self.notes]
@@ -147,6 +147,11 @@ def check_model(model: Model) -> CheckReport:
         found = servo_equilibrium(model, q)
         notes.append(found.note())
         equilibrium = found.to_dict()
+    friction = _coulomb_contacts(solver, model.t0, q, qd, mode)
+    if friction:
+        for entry in contacts:
+            entry.update(friction.get(entry["name"], {}))
+        determinacy = _with_friction(determinacy, friction)
     return CheckReport(model.name, model.source, list(model.coordinates), model.parameter_values,
                        cons, contacts, counts, determinacy, initial, mode.label(), notes, equilibrium)
 
@@ -167,3 +172,93 @@ def servo_notes(dyn) -> list[str]:
             f"{to_sp(cond)} = 0 (Manglieva & Beknazarov 2022, (3.3)), which fixes part of the "
             "initial state")
     return out
+
+
+# ------------------------------------------------------------------ Coulomb contacts
+
+
+def _coulomb_contacts(solver, t, q, qd, mode) -> dict[str, dict[str, Any]]:
+    """Per Coulomb contact with friction: its mu at the parameters, and the critical mu of
+    Painleve's paradox at the initial state -- the friction coefficient at which the effective
+    normal compliance ``b = dg''/dN`` of the contact sliding (the other contacts as in the
+    initial mode) vanishes; above it sliding there has no consistent or no unique continuation.
+    For one slip component both directions are tried; for two, the direction of the slip (or,
+    at rest, none is tried)."""
+    import numpy as np
+
+    from ..modes.switching import critical_friction
+    from ..modes.types import SLIDE, ContactState
+
+    out: dict[str, dict[str, Any]] = {}
+    if not mode.contacts:
+        return out
+    cout = solver.ck(solver.input(t, q, qd))
+    for c, (name, cs) in enumerate(mode.contacts):
+        data = solver.ck.data[c]
+        if not data.law.exact or c in solver.frictionless:
+            continue
+        if cs.state == "separated":
+            out[name] = {"mu": float(cout["mu"][c]), "state_at_t0": cs.label(), "critical_mu": None}
+            continue
+        U = np.asarray(solver.ck.slip(cout, c), dtype=float)
+        if len(U) == 1:
+            directions = [(1.0,), (-1.0,)]
+        elif np.linalg.norm(U) > 0:
+            directions = [tuple(U / np.linalg.norm(U))]
+        else:
+            directions = []
+        critical = []
+        for d in directions:
+            probe = mode.with_contact(name, ContactState(SLIDE, d, cs.sigma))
+            try:
+                mu_c = critical_friction(solver, t, q, qd, probe, name)
+            except Exception:  # noqa: BLE001 - a diagnosis must not mask the check
+                mu_c = None
+            if mu_c is not None:
+                critical.append((mu_c, d))
+        entry: dict[str, Any] = {"mu": float(cout["mu"][c]), "state_at_t0": cs.label()}
+        if cs.state == "separated":
+            entry["critical_mu"] = None
+        elif critical:
+            mu_c, d = min(critical)
+            entry["critical_mu"] = float(mu_c)
+            entry["critical_direction"] = (("+" if d[0] > 0 else "-") if len(d) == 1
+                                           else [float(v) for v in d])
+        else:
+            entry["critical_mu"] = None
+        out[name] = entry
+    return out
+
+
+def _with_friction(determinacy: str, friction: dict[str, dict[str, Any]]) -> str:
+    """The determinacy line, with what the Coulomb contacts make of it (the numbers are on
+    the contacts' lines)."""
+    head = determinacy.replace("all constraints ideal: the motion is determinate",
+                               "all constraints ideal")
+    above = [n for n, e in friction.items() if e.get("critical_mu") is not None and e["mu"] >= e["critical_mu"]]
+    if above:
+        verdict = f"mu is at or above the critical value at contact(s) {', '.join(above)}: Painleve's paradox"
+    elif any(e.get("critical_mu") is not None for e in friction.values()):
+        verdict = "at t0 every mu is below its critical value (see the contacts)"
+    else:
+        verdict = "at t0 no value of mu does (see the contacts)"
+    return (f"{head}; with Coulomb friction the motion is determinate only while each sliding "
+            "contact's effective normal compliance b = dg''/dN stays positive, which a large mu "
+            f"can break (Painleve 1895): {verdict}")
+
+
+def friction_text(entry: dict[str, Any]) -> str:
+    """What ``check`` says of one Coulomb contact's friction at t0."""
+    if "mu" not in entry:
+        return ""
+    if entry.get("state_at_t0") == "separated":
+        return f"; mu = {entry['mu']:.6g}, separated at t0"
+    mu_c = entry.get("critical_mu")
+    if mu_c is None:
+        return (f"; mu = {entry['mu']:.6g}: no critical value at t0 (sliding there stays "
+                "determinate whatever mu)")
+    where = f"sliding {entry['critical_direction']}"
+    if entry["mu"] >= mu_c:
+        return (f"; mu = {entry['mu']:.6g} is at or above the critical mu = {mu_c:.6g} at t0 "
+                f"({where}): Painleve's paradox")
+    return f"; mu = {entry['mu']:.6g}, critical mu = {mu_c:.6g} at t0 ({where}): Painleve's paradox above it"

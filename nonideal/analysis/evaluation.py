@@ -1,5 +1,5 @@
 """The motion at one state: accelerations, multipliers, reactions split into constraint and
-friction parts (Painleve's split, seed 000 section 1.2).
+friction parts (Painleve's split, Manglieva & Beknazarov 2022, section 1.2).
 
 For the constraint Jacobian ``G`` of the active constraints (as ideal constraints) and the
 possible velocities ``V`` (``G V = 0``), every generalized reaction decomposes uniquely as
@@ -15,8 +15,10 @@ reaction, ``R_j - G_j^T lambda_j``; their sum over the rows is ``P R``.
 
 from __future__ import annotations
 
+from ..numeric.display import number, numbers
+
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -47,9 +49,10 @@ class Evaluation:
     reactions: dict[str, dict[str, list[float]]]
     contacts: dict[str, dict[str, Any]]
     split_available: bool
+    indeterminate: dict[str, Any] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
-        """The SPEC's JSON structure of ``evaluate``."""
+        """The JSON structure of ``evaluate --json`` (keys fixed; more may be added)."""
         c = self.coordinates
         return {
             "model": self.model, "form": self.form, "t": self.t,
@@ -61,12 +64,13 @@ class Evaluation:
             "reaction_total": self.reaction_total(),
             "contacts": self.contacts,
             "mode": self.mode,
+            "indeterminate": self.indeterminate,
         }
 
     def reaction_total(self) -> dict[str, list[float]]:
         """The total generalized reaction ``M q'' - F`` and its Painleve split, summed over all
-        constraints and contacts: ``G^T lambda`` and the seed's friction force ``M V mu``
-        (seed 000, (1.14)-(1.17))."""
+        constraints and contacts: ``G^T lambda`` and Manglieva & Beknazarov's friction force ``M V mu``
+        (Manglieva & Beknazarov 2022, (1.14)-(1.17))."""
         n = len(self.coordinates)
         out = {}
         for key in ("generalized", "constraint_part", "friction_part"):
@@ -80,20 +84,22 @@ class Evaluation:
     def as_text(self) -> str:
         lines = [f"{self.model} at t = {self.t:g}  (form: {self.form}, mode: {self.mode})"]
         width = max(len(n) for n in self.coordinates) + 2
+        sq, sv, sa = (max(np.max(np.abs(a)), 1.0) for a in (self.q, self.qd, self.qdd))
         for i, n in enumerate(self.coordinates):
-            lines.append(f"  {n:<{width}} = {self.q[i]: .10g}   {n}' = {self.qd[i]: .10g}   "
-                         f"{n}'' = {self.qdd[i]: .10g}")
+            lines.append(f"  {n:<{width}} = {number(self.q[i], sq, 10, True)}   "
+                         f"{n}' = {number(self.qd[i], sv, 10, True)}   "
+                         f"{n}'' = {number(self.qdd[i], sa, 10, True)}")
         for name, value in self.multipliers.items():
             r = self.reactions[name]
             if name in self.contacts:
                 c = self.contacts[name]
-                lines.append(f"  contact {name}: {c['mode']}, N = {c['normal']: .10g}, "
+                lines.append(f"  contact {name}: {c['mode']}, N = {number(c['normal'], None, 10, True)}, "
                              f"F = {_fmt(c['friction'])}, slip = {_fmt(c['slip'])}, gap = {c['gap']:.3g}")
                 if "margin" in c:
                     lines.append(f"    sticking: friction needed {c['friction_needed']:.8g} of "
                                  f"mu_s N = {c['friction_available']:.8g} (margin {c['margin']:.6g})")
             else:
-                lines.append(f"  lambda_{name} = {value: .10g}")
+                lines.append(f"  lambda_{name} = {number(value, None, 10, True)}")
             lines.append(f"    reaction (generalized) = {_fmt(r['generalized'])}")
             if self.split_available and "control_part" in r:
                 lines.append(f"    ideal part             = {_fmt(r['ideal_part'])}")
@@ -105,16 +111,23 @@ class Evaluation:
         if self.split_available and len(self.reactions) > 1 and any(
                 any(v != 0 for v in r.get("friction_part", ())) for r in self.reactions.values()):
             tot = self.reaction_total()
-            lines.append("  all reactions (the friction parts add up to the seed's friction force "
+            lines.append("  all reactions (the friction parts add up to Manglieva & Beknazarov's friction force "
                          "M V mu)")
             lines.append(f"    total (generalized)    = {_fmt(tot['generalized'])}")
             lines.append(f"    constraint part        = {_fmt(tot['constraint_part'])}")
             lines.append(f"    friction part          = {_fmt(tot['friction_part'])}")
+        if self.indeterminate:
+            lines.append("  statically indeterminate: the split of these forces is NOT unique (any "
+                         "split in the ranges below that keeps every contact admissible gives the "
+                         "same motion); shown: " + self.indeterminate["rule"])
+            for label, (lo, hi, shown) in self.indeterminate["ranges"].items():
+                lines.append(f"    {label}: shown {number(shown, None, 8)}, admissible from "
+                             f"{number(lo, None, 8)} to {number(hi, None, 8)}")
         return "\n".join(lines)
 
 
 def _fmt(values) -> str:
-    return "[" + ", ".join(f"{v:.8g}" for v in values) + "]"
+    return numbers(values)
 
 
 def parse_state(model: Model, text: str | None) -> dict[str, float]:
@@ -223,9 +236,9 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
         not depend on friction) and the friction part ``R_j - G_j^T lambda_j``, what friction
         adds to that row's reaction: at the contact its friction force and the change of its
         normal force, at an ideal constraint the change of its reaction that friction elsewhere
-        causes (seed 000, (1.14)-(1.17); zero in a frictionless system).  Each row's parts add
+        causes (Manglieva & Beknazarov 2022, (1.14)-(1.17); zero in a frictionless system).  Each row's parts add
         up to its reaction; summed over all rows the friction parts are ``M V mu``, the
-        friction force of the seed, which accelerates along possible velocities only (a single
+        friction force of the paper, which accelerates along possible velocities only (a single
         row's friction part need not).  For a servo or quasi-ideal constraint the two parts are
         also given as ``ideal_part`` and ``control_part``: the rest of its reaction is the
         control, which does work (Briskin et al. 2021); ``friction_part`` keeps the same
@@ -251,6 +264,31 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     mode = select_mode(solver, t, q, qd)
     sol = solver.solve(t, q, qd, mode)
     return _report(model, form, t, q, qd, mode, sol, solver)
+
+
+def _indeterminate(solver, mode, sol, t, q, qd) -> dict[str, Any]:
+    """The rule and the admissible range of each statically indeterminate force (empty when
+    the mode's reactions are unique)."""
+    if not sol.layout or not solver.system(mode).dependent(sol.Gm):
+        return {}
+    from ..modes.indeterminate import admissible_ranges
+
+    cout = solver.ck(solver.input(t, q, qd)) if solver.ck else {}
+    ranges = admissible_ranges(solver, mode, sol.layout, sol.Bm, sol.M @ sol.qdd - sol.F, cout)
+    names = solver.ck.names if solver.ck else []
+    out = {}
+    for j, (lo, hi) in ranges.items():
+        r = sol.layout[j]
+        if r.kind == "constraint":
+            label = f"lambda_{solver.kernel.rows[r.index].name}"
+        elif r.kind == "normal":
+            label = f"N {names[r.index]}"
+        else:
+            label = f"F {names[r.index]}" + (f"[{r.k + 1}]" if solver.ck.dims[r.index] > 1 else "")
+        out[label] = [lo, hi, float(sol.values[j])]
+    return {"rule": "widest margin (the distribution maximizing the smallest of N, mu_s N - |F| "
+                    "and the held multipliers; the least-norm one among several)",
+            "ranges": out}
 
 
 def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
@@ -326,4 +364,5 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
             info["constraint_multiplier"] = float(lam_split[name])
         contacts[name] = info
     return Evaluation(model.name, form, t, tuple(model.coordinates), q, qd, sol.qdd, mode.label(),
-                      multipliers, reactions, contacts, split is not None)
+                      multipliers, reactions, contacts, split is not None,
+                      _indeterminate(solver, mode, sol, t, q, qd))

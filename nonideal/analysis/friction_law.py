@@ -1,4 +1,4 @@
-"""The friction law of the system (seed 000, sections 1.1-1.3), derived symbolically.
+"""The friction law of the system (Manglieva & Beknazarov 2022, sections 1.1-1.3), derived symbolically.
 
 With the constraint rows ``G`` (the model's constraints and the normal rows of the touching
 contacts, all taken as ideal), Painleve's split of the reaction ``R = G^T lambda + R_tau``
@@ -8,7 +8,7 @@ a fixed direction ``s`` (one slip component) the physical reaction is
 
     lambda = N + k F,       k = (G M^-1 G^T)^-1 G M^-1 W^T,
 
-so the normal force, the friction force and the seed's coefficient ``mu`` (the slip
+so the normal force, the friction force and Manglieva & Beknazarov's coefficient ``mu`` (the slip
 acceleration imparted by friction: ``mu = W M^-1 R_tau = F / m_eff``) follow from
 ``lambda_c`` alone:
 
@@ -18,7 +18,7 @@ acceleration imparted by friction: ``mu = W M^-1 R_tau = F / m_eff``) follow fro
 The denominator ``1 - f s k_c`` vanishing is Painleve's paradox.  A bilateral contact (a slider
 in a rough guide) presses either way and Coulomb's law reads ``F = -f s |N_c|``: for a normal
 force of sign ``sigma`` (``normal_sign``) ``F = -f s sigma N_c`` and
-``N_c = lambda_c / (1 - f s sigma k_c)``, a branch that holds while ``sigma N_c > 0``.  ``mu`` in the seed is
+``N_c = lambda_c / (1 - f s sigma k_c)``, a branch that holds while ``sigma N_c > 0``.  ``mu`` in the paper is
 normalized this way: for Painleve's two points (1.13) ``mu = R_x / (m + m1 cos^2 theta)``,
 i.e. ``m_eff = m + m1 cos^2 theta``.
 
@@ -64,7 +64,7 @@ class FrictionLaw:
         lines = [f"friction law of the system, contact '{self.contact}', slip direction "
                  f"s = {self.direction:+d}" + (f", normal force of sign {self.normal_sign:+d} "
                                               f"(bilateral: F = -f s |N|)" if self.bilateral else "")
-                 + " (seed 000, (1.21)-(1.23), (1.81)-(1.82))",
+                 + " (Manglieva & Beknazarov 2022, (1.21)-(1.23), (1.81)-(1.82))",
                  f"  constraint rows (lambda independent of friction): {', '.join(self.rows)}",
                  f"  effective tangential mass m_eff = {sp.sstr(self.effective_mass)}",
                  f"  coupling k = {sp.sstr(self.k)}     ({lam} = N + k F)",
@@ -171,14 +171,14 @@ def friction_law(model: Model, contact: str, direction: int = 1, constraints=Non
 
 
 def painleve_model(model: Model, contacts=None) -> tuple[Model, list[str]]:
-    """The model in the seed's representation of friction (seed 000 (1.52), (2.7)-(2.8)).
+    """The model in Manglieva & Beknazarov's representation of friction (Manglieva & Beknazarov 2022, (1.52), (2.7)-(2.8)).
 
     Every touching contact (default: all) becomes an ideal bilateral constraint ``gap = 0``
     (its multiplier is the constraint force ``lambda``, independent of friction), and the
     friction force of the system enters as the generalized force ``M V mu`` -- ``V`` the basis
     of the possible velocities, ``mu_j`` one coefficient per independent velocity (parameters
     of value 0 in the returned model; the friction law of the system expresses them through
-    ``lambda``).  Deriving this model in any form gives the seed's equations with friction:
+    ``lambda``).  Deriving this model in any form gives Manglieva & Beknazarov's equations with friction:
     Lagrange I (1.53)/(2.8), Lagrange II (1.56), Shulgin (1.64), Appell (1.65).
 
     Returns
@@ -243,7 +243,8 @@ def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = 
     import symengine as se
 
     from ..numeric.consistency import complete_state
-    from .derivation import derive
+    from ..equations.formalisms import derive as derive_symbolic
+    from ..numeric.consistency import initial_branch
     from ..modes.solver import ModeSolver
     from ..numeric.kernel import kernel_of, parameter_vector
     from ..modes.switching import select_mode
@@ -284,7 +285,8 @@ def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = 
         rows += dyn.contact_rows(c, "slide", 1, direction)
         notes.append(f"contact '{name}': sliding ({st}); its normal force N carries the friction "
                      "-mu N s" + ("" if d == 1 else " with s = U/|U| (symbols s[...])"))
-    eom = derive(model, form, rows=rows, independent=independent)
+    branch = initial_branch(model) if form == "lagrange2" else None   # as nonideal.derive does
+    eom = derive_symbolic(model, form, rows=rows, independent=independent, branch=branch)
     from dataclasses import replace as _replace
 
     return _replace(eom, notes=tuple(notes) + tuple(eom.notes))
@@ -323,7 +325,7 @@ def contact_gap_constraints(model: Model, contacts=None) -> tuple[Model, list[st
     forces = [f + friction[i] for i, f in enumerate(model.forces)]
     params = dict(model.parameters)
     for n_ in mu_names:
-        params[n_] = Parameter(n_, 0.0, "", "friction coefficient of the system (seed 000 (1.52))")
+        params[n_] = Parameter(n_, 0.0, "", "friction coefficient of the system (Manglieva & Beknazarov 2022, (1.52))")
     new = base.replace(forces=dict(zip(model.coordinates, forces)), parameters=params,
                        name=f"{model.name} (friction as M V mu)")
     return new, mu_names

@@ -1,4 +1,4 @@
-"""Realizability of nonholonomic (no-slip) constraints by Coulomb friction (seed 001).
+"""Realizability of nonholonomic (no-slip) constraints by Coulomb friction (Kalinin & Novozhilov).
 
 Kalinin & Novozhilov: for ``V' = g + sum_s b_s f_s`` with Coulomb forces ``f_s = -f_s0 sign U_s``
 the sticking motion ``U_s = 0`` is realized by friction -- and the regularized system (the
@@ -12,8 +12,8 @@ friction in a contact plane).  The roots are exactly the reactions of the no-sli
   contact sticking, compared with ``mu_s N``, with the margin;
 * :func:`realizability_along` -- along the rolling motion, the first time rolling stops being
   realizable (the needed friction reaches ``mu_s N``) or the contact lifts off;
-* :func:`regularized` -- the model with the epsilon-linear (or smooth) friction law of the
-  seed, whose solutions tend to the sticking one as ``eps -> 0``.
+* :func:`regularized` -- the model with the epsilon-linear (or smooth) friction law of
+  Kalinin & Novozhilov, whose solutions tend to the sticking one as ``eps -> 0``.
 """
 
 from __future__ import annotations
@@ -50,9 +50,16 @@ class ContactRealizability:
     ratio: float             # |F*| / available
     realizable: bool
     note: str = ""
+    slip: np.ndarray | None = None   # U at the state: nonzero when the contact slides there
+
+    @property
+    def sticking(self) -> bool:
+        """Whether the contact sticks at the state (its slip is zero)."""
+        return self.slip is None or not np.any(self.slip)
 
     def to_dict(self) -> dict[str, Any]:
-        return {"contact": self.name, "components": self.components,
+        return {"contact": self.name, "components": self.components, "sticking": self.sticking,
+                "slip": [float(v) for v in self.slip] if self.slip is not None else None,
                 "friction_needed": [float(v) for v in self.needed],
                 "friction_needed_magnitude": float(np.linalg.norm(self.needed)),
                 "normal": self.normal, "mu_static": self.mu_static,
@@ -90,11 +97,15 @@ class RealizabilityReport:
         for c in self.contacts.values():
             cond = "|f*| < f0" if c.components == 1 else "f1*^2 + f2*^2 < f0^2"
             lines.append(
-                f"  {c.name}: needed friction f* = {np.array2string(c.needed, precision=8)} "
+                f"  {c.name}: needed friction f* = {_numbers(c.needed)} "
                 f"(|f*| = {np.linalg.norm(c.needed):.8g}), normal N = {c.normal:.8g}, "
                 f"f0 = mu_s N = {c.available:.8g}")
             lines.append(f"    {cond}: {'yes' if c.realizable else 'NO'}; margin f0 - |f*| = "
                          f"{c.margin:.8g}, ratio |f*|/f0 = {c.ratio:.6g}" + (f"  ({c.note})" if c.note else ""))
+            if not c.sticking:
+                lines.append(f"    but the contact is NOT sticking at this state: it slides (slip U = "
+                             f"{_numbers(c.slip)}); f* is the friction sticking would need if the slip "
+                             "were stopped here")
         if self.others:
             lines.append("  other contacts, as in the motion: "
                          + ", ".join(f"{k} {v}" for k, v in self.others.items()))
@@ -139,8 +150,23 @@ def _stick_mode(solver: ModeSolver, t, q, qd, names=None) -> Mode:
     return Mode(held, tuple(states))
 
 
-def _assess(solver, sol, mode) -> dict[str, ContactRealizability]:
+def _numbers(values, scale: float | None = None) -> str:
+    """``[a, b]`` with 8 significant digits; rounding noise (below 1e-12 of the scale) as 0."""
+    values = np.atleast_1d(np.asarray(values, dtype=float))
+    scale = float(np.max(np.abs(values))) if scale is None and values.size else (scale or 0.0)
+    tol = 1e-12 * max(scale, 1.0)
+    return "[" + ", ".join("0" if abs(v) <= tol else f"{v:.8g}" for v in values) + "]"
+
+
+def _assess(solver, sol, mode, t=None, q=None, qd=None) -> dict[str, ContactRealizability]:
     out = {}
+    slips = {}
+    if q is not None:
+        cout = solver.ck(solver.input(t, q, qd))
+        scale = 1.0 + float(np.max(np.abs(qd))) if len(qd) else 1.0
+        for c, name in enumerate(solver.ck.names):
+            U = np.atleast_1d(np.asarray(solver.ck.slip(cout, c), dtype=float))
+            slips[name] = np.where(np.abs(U) <= 1e-9 * scale, 0.0, U)
     for c, (name, cs) in enumerate(mode.contacts):
         if cs.state != STICK:
             continue
@@ -155,7 +181,7 @@ def _assess(solver, sol, mode) -> dict[str, ContactRealizability]:
         ratio = need / available if available > 0 else float("inf")
         ok = need < available and (bil or cf.N >= 0)
         out[name] = ContactRealizability(name, len(cf.F), cf.F.copy(), float(cf.N), cf.mu_s, available,
-                                         available - need, ratio, bool(ok), note)
+                                         available - need, ratio, bool(ok), note, slips.get(name))
     return out
 
 
@@ -192,7 +218,7 @@ def realizability(model: Model, at: Mapping[str, float] | None = None, t: float 
     state.update({c + "'": float(v) for c, v in zip(model.coordinates, qd)})
     others = {name: cs.label() for name, cs in mode.contacts
               if contacts is not None and name not in contacts}
-    return RealizabilityReport(model.name, t, state, _assess(solver, sol, mode), others=others)
+    return RealizabilityReport(model.name, t, state, _assess(solver, sol, mode, t, q, qd), others=others)
 
 
 def realizability_along(model: Model, t_end: float | None = None, samples: int = 201,
@@ -236,7 +262,7 @@ def realizability_along(model: Model, t_end: float | None = None, samples: int =
 
 
 def regularized(model: Model, eps: float, law: str = "linearized") -> Model:
-    """The model with every Coulomb contact replaced by the epsilon-linear law of seed 001
+    """The model with every Coulomb contact replaced by the epsilon-linear law of Kalinin & Novozhilov
     (``law="linearized"``: ``F = -mu N U/eps`` for ``|U| <= eps``) or the smooth law
     (``law="smooth"``: ``F = -mu N U/sqrt(|U|^2 + eps^2)``)."""
     cls = {"linearized": LinearizedCoulomb, "smooth": RegularizedCoulomb}.get(law)

@@ -37,6 +37,18 @@ def version() -> str:
         return __version__
 
 
+class _Version(argparse.Action):
+    """``--version``: the version is looked up only when asked for (the package metadata
+    costs a tenth of a second to read)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"nonideal {version()}")
+        parser.exit()
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .common import ParserContext
 
@@ -44,7 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="nonideal",
         description="Analytical dynamics of systems with ideal and non-ideal constraints.",
         epilog="Exit codes: 0 success, 2 bad input, 3 mechanics without a consistent or unique answer.")
-    p.add_argument("--version", action="version", version=f"nonideal {version()}")
+    p.add_argument("--version", action=_Version, help="show the version and exit")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
     ctx = ParserContext()
     for name in COMMANDS:
@@ -52,12 +64,24 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _bare_json(argv: list[str]) -> list[str]:
+    """``--json MODEL.toml`` (a bare ``--json`` before the model) means JSON on standard output
+    for that model -- not JSON written over the model file, which is what argparse's optional
+    value would make of it.  A value ending in ``.toml`` is never a JSON output."""
+    out = list(argv)
+    for i, item in enumerate(out[:-1]):
+        if (item == "--json" and out[i + 1].endswith(".toml")
+                and not any(a.endswith(".toml") for a in out[1:i])):   # no model before it
+            out[i] = "--json=-"
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     from .common import numerical_warnings
 
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
+        args = parser.parse_args(_bare_json(sys.argv[1:] if argv is None else list(argv)))
     except SystemExit as exc:   # --help (0) or a usage error (2): return, do not exit
         return int(exc.code or 0)
     try:

@@ -17,9 +17,12 @@ from .outputs import output_problems
 __all__ = ["ParserContext", "json_option", "model_argument", "load_spec", "check_options",
            "parse_times", "parse_at", "parse_independent", "parse_substitutions",
            "parse_contact_states", "parse_overrides", "numerical_warnings", "explained",
-           "well_posed_at_start", "form_type", "method_type", "METHODS", "PLOT_SAMPLES", "RTOL_MIN"]
+           "well_posed_at_start", "form_type", "method_type", "METHODS", "FORM_NAMES", "PLOT_SAMPLES", "RTOL_MIN"]
 
 METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+#: the forms of ``nonideal.equations.formalisms.FORMS``, named here so that building the parser
+#: (``--help``) does not import SymPy; tests/cli/test_cli_startup.py checks they agree
+FORM_NAMES = ("lagrange1", "lagrange2", "maggi", "appell", "shulgin")
 PLOT_SAMPLES = 601   # samples of a plotted or tabulated (--csv) run when --times is not given
 
 #: the smallest relative tolerance: SciPy's integrators raise a smaller one to 100 machine
@@ -341,9 +344,7 @@ class ParserContext:
     """What the commands' parsers share: the forms of the equations and the solvers."""
 
     def __init__(self):
-        from ..equations.formalisms import FORMS
-
-        self.forms = list(FORMS)
+        self.forms = list(FORM_NAMES)
         self.form_help = f"the form: {', '.join(self.forms)} (default lagrange1)"
         self.solvers = self.forms + ["gauss"]
         self.solver_help = (f"the form evaluating the accelerations: {', '.join(self.solvers)} "

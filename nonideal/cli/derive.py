@@ -18,14 +18,14 @@ def add_parser(sub, ctx) -> None:
     fmt.add_argument("--latex", action="store_true", help="print LaTeX")
     json_option(fmt)
     d.add_argument("--independent", help="independent coordinates for the reduced forms, comma-separated")
-    d.add_argument("--simplify", action="store_true", help="trigsimp the printed equations (can be slow)")
+    d.add_argument("--simplify", action="store_true", help="SymPy's trigsimp of the raw equations instead of the readable default (slow: grows fast with the number of angles)")
     d.add_argument("--contact", action="append", metavar="NAME=STATE",
                    help="state of a contact: separated, stick, slide+, slide- (one slip component) "
                    "or slide (two); repeatable; default: its state at t0")
     d.add_argument("--friction", choices=["physical", "painleve"], default="physical",
                    help="physical: a sliding contact's normal force carries -mu N s (default); "
                    "painleve: the touching contacts (at t0, or not separated by --contact) as ideal "
-                   "constraints plus the friction force M V mu of the seed's extended method of "
+                   "constraints plus the friction force M V mu of Manglieva & Beknazarov's extended method of "
                    "combining constraints")
     d.set_defaults(func=run)
 
@@ -38,19 +38,9 @@ def run(args) -> int:
     well_posed_at_start(model)
     independent = parse_independent(args.independent, model, args.form)
     states = parse_contact_states(args.contact, model)
-    if args.friction == "painleve":
-        from ..analysis.friction_law import painleve_model, touching_contacts
-
-        closed = touching_contacts(model, states) if model.contacts else None
-        eom = derive(painleve_model(model, closed)[0], args.form, independent=independent)
-    elif model.contacts:
-        from ..analysis.friction_law import derive_in_mode
-
-        eom = derive_in_mode(model, args.form, states, independent)
-    else:
-        if states:
-            raise ModelError("--contact: the model has no [[contacts]]")
-        eom = derive(model, args.form, independent=independent)
+    if states and not model.contacts:
+        raise ModelError("--contact: the model has no [[contacts]]")
+    eom = derive(model, args.form, independent=independent, contacts=states, friction=args.friction)
     outputs = Outputs()
     if args.json:
         emit_json(args, eom.to_dict(), outputs)

@@ -21,8 +21,10 @@ def run(args) -> int:
             name = args.name if args.name in gallery.names() else "NAME"
             raise ModelError(f"examples list takes no name (got '{args.name}'); to see one "
                              f"example: nonideal examples show {name}")
-        for name in gallery.names():
-            print(f"{name:28} {gallery.module(name).TITLE}")
+        names = gallery.names()
+        width = max(len(n) for n in names) + 2
+        for name in names:
+            print(f"{name:{width}}{gallery.info(name).title}")
         return 0
     if not args.name:
         raise ModelError(f"examples {args.action}: give the example's name (see 'nonideal examples list')")

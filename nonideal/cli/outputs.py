@@ -131,7 +131,7 @@ def output_problems(args, model_spec: str) -> list[str]:
     problems = []
     seen: dict[Path, str] = {}
     model_path = Path(model_spec).resolve() if Path(model_spec).is_file() else None
-    for option in ("json", "csv", "plot"):
+    for option in ("json", "csv", "plot", "animate"):
         value = getattr(args, option, None)
         if not value or value == "-":
             continue
@@ -155,6 +155,17 @@ def output_problems(args, model_spec: str) -> list[str]:
             problems.append(f"{flag} {value}: cannot write: {blocker} is not a directory; "
                             "choose another path")
         seen[path] = flag
+    anim = getattr(args, "animate", None)
+    if anim:
+        suffix = Path(anim).suffix.lower()
+        if suffix not in (".gif", ".mp4"):
+            problems.append(f"--animate {anim}: write a .gif (or an .mp4, with ffmpeg installed)")
+        elif suffix == ".mp4":
+            from matplotlib import animation
+
+            if not animation.FFMpegWriter.isAvailable():
+                problems.append(f"--animate {anim}: .mp4 needs ffmpeg, which is not installed; "
+                                "write a .gif")
     plot = getattr(args, "plot", None)
     if plot and Path(plot).suffix:
         from matplotlib.figure import Figure

@@ -26,6 +26,8 @@ def add_parser(sub, ctx) -> None:
     json_option(s)
     s.add_argument("--csv", metavar="OUT", help="write the trajectory as CSV (at --times, else on 601 uniform samples)")
     s.add_argument("--plot", metavar="PNG", help="plot the trajectory, reactions and energy")
+    s.add_argument("--animate", metavar="GIF", help="animation of the motion (.gif; .mp4 needs "
+                   "ffmpeg): the bodies drawn from the model's geometry, each contact's mode coloured")
     s.set_defaults(func=run)
 
 
@@ -65,7 +67,7 @@ def run(args) -> int:
         raise explained(model, exc) from None
     outputs = Outputs()
     fine = traj
-    if (args.csv or args.plot) and times is None and len(traj.t) < PLOT_SAMPLES:
+    if (args.csv or args.plot or args.animate) and times is None and len(traj.t) < PLOT_SAMPLES:
         # the integrator's steps are far apart for a table or a drawing: the same run sampled
         # on a fine uniform grid (dense output; the events are in the JSON and on the plot)
         import numpy as np
@@ -74,10 +76,14 @@ def run(args) -> int:
         fine = simulate(model, t_end=traj.t[-1], times=grid, form=args.form, **options)
     if args.csv:
         outputs.add("--csv", args.csv, fine.to_csv)
+    if args.animate:
+        from ..plotting import animate_trajectory
+
+        outputs.add("--animate", args.animate, lambda tmp: animate_trajectory(fine, model, tmp))
     if args.plot:
         from ..plotting import plot_trajectory
 
-        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(fine, tmp))
+        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(fine, tmp, model=model))
     heat = _actuator_heat(model, traj, args.form, options)
     payload = traj.to_dict()
     if heat is not None:
@@ -94,8 +100,12 @@ def run(args) -> int:
         d = traj.diagnostics
         print(f"{traj.model}: simulated t = {traj.t[0]:g} .. {traj.t[-1]:g} "
               f"({d['samples']} samples, {d['events']} events, form {d['form']}, {d['method']})")
-        for k, c in enumerate(traj.coordinates):
-            print(f"  {c:>10}(t_end) = {traj.q[-1, k]: .12g}   {c}'(t_end) = {traj.qd[-1, k]: .12g}")
+        from ..numeric.display import number
+
+        for k, c in enumerate(traj.coordinates):   # noise against the coordinate's range: 0
+            sq, sv = float(abs(traj.q[:, k]).max()), float(abs(traj.qd[:, k]).max())
+            print(f"  {c:>10}(t_end) = {number(traj.q[-1, k], sq, 12, True)}   "
+                  f"{c}'(t_end) = {number(traj.qd[-1, k], sv, 12, True)}")
         shown = traj.events if len(traj.events) <= 24 else traj.events[:20]
         for e in shown:
             print(f"  event at t = {e['t']:.12g}: {e['type']} {e.get('constraint', e.get('contact', ''))}"

@@ -27,6 +27,7 @@ import symengine as se
 import sympy as sp
 
 from ..modeling.symbols import latex_names, to_sp
+from .readable import Printer
 
 __all__ = ["EquationsOfMotion", "Auxiliary"]
 
@@ -186,6 +187,67 @@ class EquationsOfMotion:
         return eqs
 
     # ---------------------------------------------------------------- printing
+    @cached_property
+    def printer(self) -> Printer:
+        """The :class:`~nonideal.equations.readable.Printer` of these equations."""
+        def latex_of(name: str) -> str:
+            s = sp.Symbol(name)
+            return latex_names([s])[s]
+
+        return Printer(self.model.coordinates, self.unknowns, self.multipliers, latex_of)
+
+    @cached_property
+    def _sides(self) -> list[tuple[dict, dict]]:
+        """(lhs, rhs) polynomials of every equation, the identities folded: ``A a + c`` =
+        ``Q_f + B mu``, then ``G a + gamma`` = 0."""
+        P = self.printer
+        out = []
+        for i in range(self.k):
+            lhs: dict = {}
+            for j, a in enumerate(self.unknowns):
+                P.add_into(lhs, P.poly(self.A_[i, j]), a)
+            P.add_into(lhs, P.poly(self.c_[i]))
+            rhs: dict = {}
+            P.add_into(rhs, P.poly(self.Qf_[i]))
+            for j, m in enumerate(self.multipliers):
+                P.add_into(rhs, P.poly(self.B_[i, j]), m)
+            out.append((P.fold(lhs), P.fold(rhs)))
+        for i in range(self.G_.shape[0]):
+            lhs = {}
+            for j, a in enumerate(self.unknowns):
+                P.add_into(lhs, P.poly(self.G_[i, j]), a)
+            P.add_into(lhs, P.poly(self.gamma_[i]))
+            lhs = P.fold(lhs)
+            if lhs and all(c < 0 for c in lhs.values()):
+                lhs = {m: -c for m, c in lhs.items()}     # "= 0": written with plus signs
+            out.append((lhs, {}))
+        return out
+
+    def readable(self, latex: bool = False) -> list[str]:
+        """The equations as a mechanician writes them, one string ``lhs = rhs`` each (LaTeX:
+        ``lhs &= rhs``): accelerations, then products of velocities, then forces and
+        multipliers, with ``sin^2 + cos^2``, angle sums and common factors folded
+        (:mod:`nonideal.equations.readable`; exact identities only, no ``simplify``)."""
+        P = self.printer
+        sep = " &= " if latex else " = "
+        return [P.side(lhs, latex) + sep + P.side(rhs, latex) for lhs, rhs in self._sides]
+
+    def _readable_value(self, value, latex: bool = False) -> str:
+        """An extra (``T``, ``S``, a matrix ``V``...) in the readable style."""
+        P = self.printer
+        if isinstance(value, str):
+            return value
+        if isinstance(value, (se.DenseMatrix, sp.MatrixBase)):
+            rows = [[P.expression(x, latex) for x in row] for row in
+                    (value.tolist() if hasattr(value, "tolist") else value)]
+            if latex:
+                return r"\begin{pmatrix}" + r" \\ ".join(" & ".join(r) for r in rows) + r"\end{pmatrix}"
+            return "Matrix([" + ", ".join("[" + ", ".join(r) + "]" for r in rows) + "])"
+        try:
+            return P.expression(value, latex)
+        except (TypeError, ValueError, RuntimeError):   # pragma: no cover - not an expression
+            return str(value)
+
     def _symbols_for_print(self):
         syms = set()
         for eq in self.equations():
@@ -193,42 +255,64 @@ class EquationsOfMotion:
         return syms
 
     def as_text(self, simplify: bool = False) -> str:
-        """Plain text, one equation per line (``simplify`` runs ``trigsimp``: can be slow)."""
+        """Plain text, one equation per line, in the readable form of :meth:`readable`
+        (``simplify`` runs SymPy's ``trigsimp`` on the raw equations instead: slow, it grows
+        exponentially with the number of angles)."""
         lines = [f"{self.title}  [{self.form}]", f"  source: {self.citation}"]
         lines += [f"  note: {n}" for n in self.notes]
-        for key, value in self.extras.items():
-            lines.append(f"  {key} = {value}")
+        for key, value in self.extras_.items():
+            lines.append(f"  {key} = {self._readable_value(value)}")
         for aux in self.auxiliaries:
             lines.append(f"  auxiliary: {aux.meaning}")
         lines.append("  unknowns: " + ", ".join(self.unknowns))
         if self.multipliers:
             lines.append("  multipliers: " + ", ".join(self.multipliers))
-        for eq in self.equations():
-            lhs, rhs = eq.lhs, eq.rhs
-            if simplify:
-                lhs, rhs = sp.trigsimp(lhs), sp.trigsimp(rhs)
-            lines.append(f"  {sp.sstr(lhs)} = {sp.sstr(rhs)}")
+        if simplify:
+            for eq in self.equations():
+                lines.append(f"  {sp.sstr(sp.trigsimp(eq.lhs))} = {sp.sstr(sp.trigsimp(eq.rhs))}")
+        else:
+            lines += ["  " + line for line in self.readable()]
         return "\n".join(lines)
 
     def as_latex(self, simplify: bool = False) -> str:
-        """LaTeX (an ``align*`` environment) in textbook notation (``\\ddot{x}``, ``\\lambda``)."""
-        names = latex_names(self._symbols_for_print() | {sp.Symbol(n) for n in self.unknowns})
-        rows = []
-        for eq in self.equations():
-            lhs, rhs = eq.lhs, eq.rhs
-            if simplify:
-                lhs, rhs = sp.trigsimp(lhs), sp.trigsimp(rhs)
-            rows.append(
-                sp.latex(lhs, symbol_names=names) + " &= " + sp.latex(rhs, symbol_names=names)
-            )
+        """LaTeX (an ``align*`` environment) in textbook notation (``\\ddot{x}``, ``\\lambda``),
+        in the readable form (``simplify``: SymPy's ``trigsimp`` of the raw equations)."""
+        if simplify:
+            names = latex_names(self._symbols_for_print() | {sp.Symbol(n) for n in self.unknowns})
+            rows = [sp.latex(sp.trigsimp(eq.lhs), symbol_names=names) + " &= "
+                    + sp.latex(sp.trigsimp(eq.rhs), symbol_names=names) for eq in self.equations()]
+        else:
+            rows = self.readable(latex=True)
         head = f"% {self.title} ({self.form}); {self.citation}\n"
-        for key, value in self.extras.items():
-            if isinstance(value, sp.Basic):
-                head += f"% {key} = " + sp.latex(value, symbol_names=latex_names(value.free_symbols)) + "\n"
+        for key, value in self.extras_.items():
+            if not isinstance(value, str):
+                head += f"% {key} = " + self._readable_value(value, latex=True) + "\n"
         return head + "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
 
+    def _repr_latex_(self) -> str:
+        """Jupyter: the equations, typeset."""
+        return "$$\\begin{aligned}\n" + " \\\\\n".join(self.readable(latex=True)) + "\n\\end{aligned}$$"
+
+    def _repr_html_(self) -> str:
+        """Jupyter: the form, its source and the equations (typeset by MathJax)."""
+        from html import escape
+
+        notes = "".join(f"<li>{escape(n)}</li>" for n in self.notes)
+        return (f"<div><b>{escape(self.title)}</b> [{escape(self.form)}] of "
+                f"<i>{escape(self.model.name)}</i><br><small>{escape(self.citation)}</small>"
+                + (f"<ul>{notes}</ul>" if notes else "") + "<br>" + self._repr_latex_() + "</div>")
+
     def to_dict(self) -> dict[str, Any]:
-        """Machine-readable form (strings in SymPy syntax)."""
+        """Machine-readable form: every expression in the readable style of :meth:`readable`
+        (SymPy syntax, primes for the time derivatives)."""
+        P = self.printer
+
+        def matrix(m) -> list:
+            return [[P.expression(m[i, j]) for j in range(m.shape[1])] for i in range(m.shape[0])]
+
+        def column(m) -> list:
+            return [P.expression(m[i, 0]) for i in range(m.shape[0])]
+
         return {
             "form": self.form,
             "title": self.title,
@@ -240,15 +324,15 @@ class EquationsOfMotion:
             "eliminated": list(self.eliminated),
             "independent": list(self.independent),
             "notes": list(self.notes),
-            "mass_matrix": [[sp.sstr(x) for x in row] for row in self.mass_matrix.tolist()],
-            "inertial_terms": [sp.sstr(x) for x in self.inertial_terms],
-            "generalized_forces": [sp.sstr(x) for x in self.generalized_forces],
-            "reaction_matrix": [[sp.sstr(x) for x in row] for row in self.reaction_matrix.tolist()],
-            "constraint_jacobian": [[sp.sstr(x) for x in row] for row in self.constraint_jacobian.tolist()],
-            "constraint_bias": [sp.sstr(x) for x in self.constraint_bias],
-            "equations": [f"{sp.sstr(e.lhs)} = {sp.sstr(e.rhs)}" for e in self.equations()],
+            "mass_matrix": matrix(self.A_),
+            "inertial_terms": column(self.c_),
+            "generalized_forces": column(self.Qf_),
+            "reaction_matrix": matrix(self.B_),
+            "constraint_jacobian": matrix(self.G_),
+            "constraint_bias": column(self.gamma_),
+            "equations": self.readable(),
             "latex": self.as_latex(),
-            "extras": {k: sp.sstr(v) for k, v in self.extras.items()},
+            "extras": {k: self._readable_value(v) for k, v in self.extras_.items()},
             "auxiliaries": [a.meaning for a in self.auxiliaries],
         }
 

@@ -1,9 +1,9 @@
 """The Appell-Hamel example: a nonlinear nonholonomic constraint z' = a sqrt(x'^2 + y'^2).
 
 Sources: the classical example of Appell (1911) and Hamel (1935) of a constraint nonlinear in
-the velocities, recalled in the introduction of Yushkov (1999) (seed 003: "the Appell-Hamel
+the velocities, recalled in the introduction of Yushkov (1999) (Yushkov 1999: "the Appell-Hamel
 example", refs. [258, 259, 297]); the reaction follows Chetaev's rule for nonlinear constraints
-(Yushkov 1999, ch. II sec. 5: ``sum d(phi)/d(q'_j) delta q_j = 0``; SPEC sec. 2).
+(Yushkov 1999, ch. II sec. 5: ``sum d(phi)/d(q'_j) delta q_j = 0``).
 
 Model.  A point of mass m at (x, y, z) under gravity -g e_z with the constraint
 
@@ -38,7 +38,8 @@ from ..modeling.model import Constraint, Model
 
 NAME = "appell-hamel"
 ORDER = 50
-TITLE = "Appell-Hamel nonlinear constraint z' = a |v_h|: lambda = m g/(1 + a^2), s = s0 - g a t/(1 + a^2)"
+TITLE = ("Appell-Hamel constraint z' = a |horizontal velocity| (nonlinear in the velocities): "
+         "lambda = m g/(1 + a^2) (Appell 1911; Yushkov 1999, ch. II)")
 FILE = "appell_hamel.toml"
 
 

@@ -20,7 +20,7 @@ Phase 1 (both contacts).  x = l sin(alpha), y = l cos(alpha), T = (m l^2 + J) al
 
     alpha'' = (3 g / (4 l)) sin(alpha),       alpha'^2 = (3 g / (2 l)) (cos(alpha0) - cos(alpha)),
 
-and the reactions (seed, f = 0; checked: they are m x_G'' and m (y_G'' + g))
+and the reactions (the paper, f = 0; checked: they are m x_G'' and m (y_G'' + g))
 
     R_A^n = m ((3/4) g cos(alpha) sin(alpha) - l sin(alpha) alpha'^2)
           = (3/4) m g sin(alpha) (3 cos(alpha) - 2 cos(alpha0)),
@@ -34,7 +34,7 @@ So the ladder leaves the wall when
 at the time t_r = integral from alpha0 to alpha_r of d(alpha)/alpha' (computed by quadrature
 with alpha = alpha0 + s^2, which removes the endpoint singularity).
 
-**Misprint**: the seed prints the detachment condition "cos(alpha) = 2 cos(alpha0)", which
+**Misprint**: the paper prints the detachment condition "cos(alpha) = 2 cos(alpha0)", which
 has no solution for alpha0 < 60 degrees and is wrong otherwise; the factor is 2/3.
 
 Phase 2 (floor only).  No horizontal force: x' = u = l cos(alpha_r) alpha_r' stays constant,
@@ -58,7 +58,8 @@ from ..modeling.model import Constraint, Model
 
 NAME = "appell-ladder"
 ORDER = 40
-TITLE = "Appell's ladder, smooth wall and floor: leaves the wall at cos(alpha) = (2/3) cos(alpha0) (seed 000, sec. 1.3)"
+TITLE = ("Ladder sliding on a smooth wall and floor: leaves the wall at cos(alpha) = (2/3) "
+         "cos(alpha0) (Appell 1911; Manglieva & Beknazarov 2022, sec. 1.3)")
 FILE = "appell_ladder.toml"
 
 CONTACTS = {"wall": "x - l*sin(alpha)", "floor": "y - l*cos(alpha)", "top_on_floor": "y + l*cos(alpha)"}
@@ -121,8 +122,8 @@ def landing_time(alpha0, l, g, m=1.0):
     return t_r + quad(lambda a: 1.0 / rate(a), alpha_r, np.pi / 2, epsabs=1e-14, epsrel=1e-14, limit=200)[0]
 
 
-def reactions_seed(alpha, alphad, m, l, g):
-    """The seed's R_A^n, R_B^n for f = 0 (functions of alpha, alpha')."""
+def reactions_published(alpha, alphad, m, l, g):
+    """Manglieva & Beknazarov's R_A^n, R_B^n for f = 0 (functions of alpha, alpha')."""
     s, c = np.sin(alpha), np.cos(alpha)
     R_A = m * (0.75 * g * c * s - l * s * alphad ** 2)
     R_B = m * g - m * (0.75 * g * s * s + l * c * alphad ** 2)
@@ -163,7 +164,7 @@ def run(verbose: bool = True) -> dict:
     times = np.linspace(0.0, t_r * 0.999, 200)
     ph1 = simulate(model, times=times)
     al, ald = ph1.coordinate("alpha"), ph1.velocity("alpha")
-    RA, RB = reactions_seed(al, ald, m, l, g)
+    RA, RB = reactions_published(al, ald, m, l, g)
     RA2, RB2 = reactions_closed(al, a0, m, g)
     err_R = float(max(np.max(np.abs(ph1.multipliers["wall"] - RA)), np.max(np.abs(ph1.multipliers["floor"] - RB)),
                       np.max(np.abs(RA - RA2)), np.max(np.abs(RB - RB2))))
@@ -183,7 +184,7 @@ def run(verbose: bool = True) -> dict:
     flat = traj.t > ev["top_on_floor"]["t"]
     err_flat = float(max(np.max(np.abs(traj.multipliers["floor"][flat] - m * g / 2)),
                          np.max(np.abs(traj.multipliers["top_on_floor"][flat] - m * g / 2))))
-    printed = 2 * np.cos(a0)   # the seed's "cos(alpha) = 2 cos(alpha0)": > 1 for alpha0 < 60 deg
+    printed = 2 * np.cos(a0)   # Manglieva & Beknazarov's "cos(alpha) = 2 cos(alpha0)": > 1 for alpha0 < 60 deg
 
     # cross-form check per contact phase (compare_forms holds every unilateral constraint at
     # once, which for the ladder is the single flat configuration with zero accelerations);
@@ -216,7 +217,7 @@ def run(verbose: bool = True) -> dict:
         "min_floor_reaction_after_release": min_RB_phase2,
         "impact_energy_change": ev["top_on_floor"]["energy_change"], "impact_energy_change_closed_form": loss,
         "energy_end": float(E[-1]), "energy_end_closed_form": E_after,
-        "seed_printed_cos_alpha": float(printed),
+        "printed_cos_alpha": float(printed),
         "energy_balance_relative": d["energy_balance_relative"],
         "constraint_residual_max": d["constraint_residual_max"],
         "forms": forms,
@@ -225,9 +226,9 @@ def run(verbose: bool = True) -> dict:
         print(TITLE)
         print(f"m = {m}, 2l = {2 * l}, alpha0 = {a0}")
         print(f"  leaves the wall at alpha = {traj.q[k_r, 2]:.12f}; arccos((2/3) cos alpha0) = {alpha_r:.12f}")
-        print(f"  (the seed's 'cos alpha = 2 cos alpha0' asks for cos alpha = {printed:.6f} > 1: misprint)")
+        print(f"  (Manglieva & Beknazarov's 'cos alpha = 2 cos alpha0' asks for cos alpha = {printed:.6f} > 1: misprint)")
         print(f"  release time {ev['wall']['t']:.12f}; quadrature {t_r:.12f} (diff {err_t_r:.1e})")
-        print(f"  max |R_A, R_B - seed's formulas| before release = {err_R:.2e}")
+        print(f"  max |R_A, R_B - Manglieva & Beknazarov's formulas| before release = {err_R:.2e}")
         print(f"  sliding velocity x' = {traj.velocity('x')[-1]:.12f}; sqrt(2/9 g l cos^3 alpha0) = {u:.12f}")
         print(f"  min floor reaction while sliding off the wall = {min_RB_phase2:.6f} > 0")
         print(f"  lands flat at t = {ev['top_on_floor']['t']:.12f}; quadrature {t_land:.12f} (diff {err_t_land:.1e})")

@@ -2,7 +2,7 @@
 (1.109), the reactions (1.110), the stop, the slide back and the release from the wall.
 
 Source: Manglieva & Beknazarov (2022), sec. 1.3, problem 2, eqs. (1.101)-(1.110) (Appell,
-*Traite de mecanique rationnelle*, ref. [22] of the seed).  The smooth case (f = 0) is the
+*Traite de mecanique rationnelle*, ref. [22] of the paper).  The smooth case (f = 0) is the
 example ``appell-ladder``.
 
 Model.  A uniform ladder AB, mass m, length 2l, J = m l^2/3 about its centre G; alpha is its
@@ -16,14 +16,14 @@ along its support):
     floor:  gap y - l cos(alpha),   slip x_B' = x' + l cos(alpha) alpha',
     top:    gap y + l cos(alpha),   slip x_A' (A reaching the floor when the ladder falls flat).
 
-Direction of sliding.  The seed states that the ladder is pushed "so that B approaches O"
+Direction of sliding.  The paper states that the ladder is pushed "so that B approaches O"
 (alpha' < 0), but then directs the friction at B from B to O and the friction at A along OA
 (upwards) -- the friction of a ladder sliding DOWN (alpha' > 0, B moving away from O) -- and
 (1.104)-(1.109) are written for that case.  With sigma = sign(alpha') (slip of B = 2 l cos(alpha)
-alpha', of A = -2 l sin(alpha) alpha'), Newton-Euler gives the seed's equations with f_A, f_B
-replaced by sigma f_A, sigma f_B.  The example follows the seed's statement literally: the
+alpha', of A = -2 l sin(alpha) alpha'), Newton-Euler gives Manglieva & Beknazarov's equations with f_A, f_B
+replaced by sigma f_A, sigma f_B.  The example follows Manglieva & Beknazarov's statement literally: the
 ladder is pushed up (alpha0 = 0.9, alpha0' = -1, B approaching O), rises with the friction
-reversed (sigma = -1), stops, slides back down with the seed's friction directions
+reversed (sigma = -1), stops, slides back down with Manglieva & Beknazarov's friction directions
 (sigma = +1), leaves the wall and falls on the floor.
 
 Equation of motion (1.106), checked (Newton-Euler for the ladder with Coulomb friction at both
@@ -41,7 +41,7 @@ are right,
     (a - 2/3) alpha'' = a f alpha'^2 - (g/l) ((a f^2 - 1) sin(alpha) + a f cos(alpha)).     (1.108)
 
 Quadrature (1.109), corrected.  Linear in u = alpha'^2:  u' - k u = -(2 g/(l (a - 2/3))) ((a f^2 - 1)
-sin + a f cos), k = 2 a f/(a - 2/3) = -b (the seed's b), so
+sin + a f cos), k = 2 a f/(a - 2/3) = -b (Manglieva & Beknazarov's b), so
 
     alpha'^2 = 2 g/(l (1 + b^2)(2/3 - a)) [((a f^2 - 1) b + a f) sin(alpha)
                + (b a f - (a f^2 - 1)) cos(alpha)] + C e^{-b alpha},
@@ -75,7 +75,7 @@ velocities vanish and change sign without sticking -- and "lift-off" of the wall
 alpha'^2(alpha) of (1.109) with the simulated motion in both phases, R_A^n, R_B^n with (1.110)
 and (1.106) with the simulated alpha'' for unequal f_A, f_B.  Painleve's split: the constraint parts of the reactions are the
 smooth reactions at the same state (R_A = m(3/4 g s c - l s alpha'^2), R_B = m g - m(3/4 g s^2 +
-l c alpha'^2)), whatever f -- the seed's answer to Appell ("the normal component depends on the
+l c alpha'^2)), whatever f -- Manglieva & Beknazarov's answer to Appell ("the normal component depends on the
 tangential one" holds for the physical normal forces, not for the constraint forces).  After
 the release the ladder slides on the floor and lands flat (plastic impact with friction at A:
 the energy balance includes the impact); ``run`` checks that it ends at rest with all its
@@ -84,7 +84,7 @@ energy dissipated by friction and the impact.
 Forms.  While both ends slide, both contacts are non-ideal rows which every form keeps with its
 multiplier, so ``compare_forms`` in the physical representation compares Lagrange I with itself
 (bit-identical) and only the Gauss solver is independent.  The non-trivial cross-check is the
-seed's representation (``--friction painleve``: both contacts ideal, friction as ``M V mu``,
+Manglieva & Beknazarov's representation (``--friction painleve``: both contacts ideal, friction as ``M V mu``,
 mu from the split of the physical reaction): every form eliminates the contacts there and must
 give the physical accelerations (``run``: 3e-15).  Both ends sticking, the rows are dependent
 (four on three coordinates: both no-slip rows say alpha' = 0) and the reactions of a ladder at
@@ -109,7 +109,8 @@ from ..modeling.model import Model
 
 NAME = "appell-ladder-rough"
 ORDER = 41
-TITLE = "Appell's ladder, rough wall and floor: (1.106), quadrature (1.109), reactions (1.110), release"
+TITLE = ("Ladder sliding on a rough wall and floor: equation of motion, its quadrature, the "
+         "reactions, release from the wall (Manglieva & Beknazarov 2022, (1.106)-(1.110))")
 FILE = "appell_ladder_rough.toml"
 
 KEYS = ("m", "l", "g", "f_A", "f_B", "alpha0", "alphad0")
@@ -168,7 +169,7 @@ def normal_forces_1_105(alpha, alphad, alphadd, sigma, p):
 
 
 def smooth_reactions(alpha, alphad, p):
-    """The reactions of the smooth ladder at the same state (the seed's f = 0 formulas)."""
+    """The reactions of the smooth ladder at the same state (Manglieva & Beknazarov's f = 0 formulas)."""
     m, l, g = p["m"], p["l"], p["g"]
     s, c = np.sin(alpha), np.cos(alpha)
     return m * (0.75 * g * c * s - l * s * alphad ** 2), m * g - m * (0.75 * g * s * s + l * c * alphad ** 2)
@@ -185,7 +186,7 @@ def _coefficients(sigma, p):
     f = p["f_A"]
     fe = sigma * f
     a = 2 / (1 + f * f)
-    k = 2 * a * fe / (a - 2 / 3)                    # = -b of the seed
+    k = 2 * a * fe / (a - 2 / 3)                    # = -b of the paper
     P, Q = a * f * f - 1, a * fe
     K0 = 2 * p["g"] / (p["l"] * (2 / 3 - a))
     A = K0 * (Q - k * P) / (1 + k * k)
@@ -316,7 +317,7 @@ def random_sliding_states(count=12, seed=3):
 def check_1_106(f_A=0.2, f_B=0.45, count=12) -> dict:
     """(1.105)-(1.106) (with sigma f_A, sigma f_B) vs the library at random states where both
     ends slide, unequal coefficients; also the split's constraint parts vs the smooth
-    reactions, and the seed's sigma = +1 equation wrongly used for alpha' < 0."""
+    reactions, and Manglieva & Beknazarov's sigma = +1 equation wrongly used for alpha' < 0."""
     from ..analysis.evaluation import evaluate
 
     model = build(f_A=f_A, f_B=f_B, top=False)
@@ -341,11 +342,11 @@ def check_1_106(f_A=0.2, f_B=0.45, count=12) -> dict:
                            abs(ev.contacts["floor"]["constraint_multiplier"] - SB) / scale)
         if sigma < 0:
             wrong_direction = min(wrong_direction, abs(ev.qdd[2] - alpha_dd_1_106(alpha, alphad, 1.0, p)))
-    return {"states": used, "errors": err, "seed_equation_backwards_min_error": float(wrong_direction)}
+    return {"states": used, "errors": err, "printed_equation_backwards_min_error": float(wrong_direction)}
 
 
 def painleve_representation(count=8) -> float:
-    """The seed's representation (contacts as ideal constraints + friction M V mu, the
+    """Manglieva & Beknazarov's representation (contacts as ideal constraints + friction M V mu, the
     ``--friction painleve`` model) in every form, with mu from the split of the physical
     reaction at random states: the accelerations must be the physical ones.  A non-trivial
     cross-check of the forms here: in the physical representation both sliding contacts are
@@ -393,7 +394,7 @@ def along(traj, cf, p) -> dict:
     out["alpha_dd (1.108)"] = float(max(
         np.max(np.abs(traj.qdd[up, 2] - alpha_dd_1_108(al[up], ald[up] ** 2, -1.0, p))),
         np.max(np.abs(traj.qdd[down, 2] - alpha_dd_1_108(al[down], ald[down] ** 2, 1.0, p)))))
-    # the printed formulas on the slide back (the seed's case, sigma = +1)
+    # the printed formulas on the slide back (Manglieva & Beknazarov's case, sigma = +1)
     out["printed (1.109)"] = float(np.max(np.abs(ald[down] ** 2 - rate2_printed(al[down], cf["alpha_stop"], 0.0, p))))
     RA_p, RB_p = reactions_1_110_printed(al[down], ald[down] ** 2, p)
     out["printed R_A (1.110)"] = float(np.max(np.abs(NA[down] - RA_p))) / scale
@@ -437,7 +438,7 @@ def run(verbose: bool = True) -> dict:
               al["rate2 (1.109)"] < 1e-8, al["reactions (1.110)"] < 1e-9, al["alpha_dd (1.108)"] < 1e-9,
               al["printed (1.109)"] > 1e-2, al["printed R_A (1.110)"] > 1e-3, al["printed R_B (1.110)"] > 1e-3,
               al["min R_A, R_B before release"] > 0, c106["states"] >= 8, max(c106["errors"].values()) < 1e-10,
-              c106["seed_equation_backwards_min_error"] > 1e-2, rep < 1e-10, forms < 1e-10,
+              c106["printed_equation_backwards_min_error"] > 1e-2, rep < 1e-10, forms < 1e-10,
               float(np.max(np.diff(W))) <= 1e-12, abs((E[-1] - E[0]) - W[-1]) < 1e-8 * abs(E[0]),
               d["energy_balance_relative"] < 1e-8, d["constraint_residual_max"] < 1e-8,
               touch is not None, at_rest_flat, dl["energy_balance_relative"] < 1e-8]
@@ -456,11 +457,11 @@ def run(verbose: bool = True) -> dict:
     if verbose:
         print(TITLE)
         print(f"m = {p['m']}, 2l = {2 * p['l']}, f_A = f_B = {p['f_A']}, pushed at alpha0 = {p['alpha0']} with "
-              f"alpha0' = {p['alphad0']} (B approaches O, as the seed states)")
+              f"alpha0' = {p['alphad0']} (B approaches O, as the paper states)")
         print(f"(a) (1.105)-(1.106) with sigma f_A, sigma f_B (f_A = 0.2, f_B = 0.45, {c106['states']} states, "
               f"both directions): alpha'' {c106['errors']['alpha_dd']:.1e}, "
-              f"R_A^n, R_B^n {c106['errors']['R_n']:.1e}; the seed's (sigma = +1) equation used for alpha' < 0 "
-              f"is off by >= {c106['seed_equation_backwards_min_error']:.3f}")
+              f"R_A^n, R_B^n {c106['errors']['R_n']:.1e}; Manglieva & Beknazarov's (sigma = +1) equation used for alpha' < 0 "
+              f"is off by >= {c106['printed_equation_backwards_min_error']:.3f}")
         print("    constraint parts of the split = smooth reactions at the same state: "
               f"{c106['errors']['split']:.1e}")
         print(f"(b) rises (friction reversed) and stops: alpha_s = {cf['alpha_stop']:.12f}, t_s = {cf['t_stop']:.12f}"
@@ -475,7 +476,7 @@ def run(verbose: bool = True) -> dict:
               f"{al['alpha_dd (1.108)']:.1e}, |R - (1.110)|/mg {al['reactions (1.110)']:.1e}")
         print(f"    as printed: (1.109) off by {al['printed (1.109)']:.3f} 1/s^2, R_A (1.110) by "
               f"{al['printed R_A (1.110)']:.3f} mg, R_B by {al['printed R_B (1.110)']:.3f} mg (misprints)")
-        print(f"(e) the seed's representation (contacts ideal + M V mu) in every form vs the physical "
+        print(f"(e) Manglieva & Beknazarov's representation (contacts ideal + M V mu) in every form vs the physical "
               f"accelerations: {rep:.1e}; compare_forms (physical, sliding) {forms:.1e}")
         print(f"(f) friction work {W[-1]:.10f} J = energy change {E[-1] - E[0]:.10f} J; balance "
               f"{d['energy_balance_relative']:.1e}, residual {d['constraint_residual_max']:.1e}")

@@ -47,7 +47,8 @@ from ..modeling.model import Model
 
 NAME = "block-on-incline"
 ORDER = 40
-TITLE = "Block thrown up a rough incline: stops at t1 = v0/(g(sin a + mu cos a)), sticks iff tan a <= mu_s"
+TITLE = ("Block thrown up a rough incline: stops at t1 = v0/(g(sin a + mu cos a)), sticks iff tan "
+         "a <= mu_s")
 FILE = "block_on_incline.toml"
 
 

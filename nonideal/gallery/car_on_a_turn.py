@@ -4,7 +4,7 @@ Source: M. P. Yushkov, *Equations of motion of nonholonomic systems and variatio
 principles of mechanics* (1999), appendix B, "motion of a car on a turn as a problem with
 unilateral nonholonomic constraints" (types of motion of the car; rational choice of
 quasi-velocities; the classic treatment is in Levin & Fufaev, *Theory of rolling of a
-deformable wheel*).  Only the table of contents of the appendix is in the seed, so the model
+deformable wheel*).  Only the table of contents of the appendix is in the paper, so the model
 below is built from mechanics, and every formula is derived here and checked against the
 simulation, against every form of the equations and against the energy balance.
 
@@ -120,7 +120,7 @@ not unique in rigid Coulomb theory when the other axle needs more than mu N (but
 mu_s N): it may keep sticking or start sliding too, both consistent; the mode selection then
 stops with an indeterminacy (exit code 3).  The example uses mu = mu_s.
 
-No misprints to report: the appendix text is not in the seed.
+No misprints to report: the appendix text is not in the paper.
 """
 
 from __future__ import annotations

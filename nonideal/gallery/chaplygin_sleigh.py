@@ -2,7 +2,7 @@
 
 Source: M. P. Yushkov, *Equations of motion of nonholonomic systems and variational
 principles of mechanics* (1999), appendix A, sec. 2 "free motion of the Chaplygin sleigh".
-The appendix text is not in the seed (only its table of contents), so the closed form below
+The appendix text is not in the paper (only its table of contents), so the closed form below
 is derived here and checked against the simulation and against every form of the equations.
 
 Model.  A planar rigid body (mass m, central moment of inertia I) with a knife edge at the

@@ -1,6 +1,6 @@
 """A disk on a rough plane driven by a growing torque: rolling until friction gives out.
 
-Source: the classical rolling problem, read through Kalinin & Novozhilov (seed 001:
+Source: the classical rolling problem, read through Kalinin & Novozhilov (Kalinin & Novozhilov:
 realizability of nonholonomic constraints by Coulomb friction, and the convergence of the
 regularized system to the rolling one, Tikhonov's theorem).  Derived here.
 
@@ -20,7 +20,7 @@ Rolling (U = 0 held as a nonholonomic constraint, its multiplier the friction F*
     =>  phi'' = c t / (I + m R^2),   F* = m R c t / (I + m R^2),
         x' = R c t^2 / (2 (I + m R^2)),   x = R c t^3 / (6 (I + m R^2)),   N = m g.
 
-Realizability (seed 001, one slip direction): rolling is realized by friction iff
+Realizability (Kalinin & Novozhilov, one slip direction): rolling is realized by friction iff
 ``|F*| < mu_s N``; F* grows linearly, so rolling is lost at
 
     t_loss = mu_s m g (I + m R^2) / (m R c)       (default: 1.32435 s),
@@ -29,7 +29,7 @@ after which the disk spins faster than it rolls (U < 0) and slides: ``x'' = mu g
 ``I phi'' = c t - mu m g R``.  ``realizability_along`` finds t_loss (the slip event of the
 rolling motion) and ``realizability`` at a state gives the needed force F*(t).
 
-Regularization (seed 001).  With the epsilon-linear law ``F = -mu N U / eps`` (|U| <= eps) the
+Regularization (Kalinin & Novozhilov).  With the epsilon-linear law ``F = -mu N U / eps`` (|U| <= eps) the
 slip obeys a LINEAR equation (the constraint is replaced by a stiff restoring friction):
 
     U' = F (1/m + R^2/I) - R c t / I = -a U - b t,     a = (mu N / eps)(1/m + R^2/I),  b = R c / I,

@@ -1,10 +1,10 @@
 """Two points on a rod whose midpoint moves along the rod (a "conditional" constraint).
 
 Source: Manglieva & Beknazarov (2022), sec. 1.3, problem 1, eqs. (1.66)-(1.99), here with a
-smooth line (f = 0; the seed shows that the multipliers do not depend on friction, so these
+smooth line (f = 0; the paper shows that the multipliers do not depend on friction, so these
 are also its multipliers with friction).
 
-Model (the seed's conventions, Oy DOWN, gravity +g along y).  M1 (mass m1) at (x1, y1) slides
+Model (Manglieva & Beknazarov's conventions, Oy DOWN, gravity +g along y).  M1 (mass m1) at (x1, y1) slides
 on the line y1 = 0 pushed by a horizontal force X; M2 (mass m2) at (x2, y2) is joined to M1
 by a rigid massless rod of length l, x2 = x1 + l cos(theta), y2 = y1 + l sin(theta).  The
 velocity of the rod's midpoint is directed along the rod (1.67).  Constraints:
@@ -13,11 +13,11 @@ velocity of the rod's midpoint is directed along the rod (1.67).  Constraints:
     rod:      sqrt((x2 - x1)^2 + (y2 - y1)^2) - l = 0,
     midpoint: ((x2 - x1)(y2' + y1') - (y2 - y1)(x2' + x1'))/l = 0       ((1.67) divided by l).
 
-Multipliers and signs.  ``lambda_line`` is the force on M1 along +y (the seed's lambda = Y);
+Multipliers and signs.  ``lambda_line`` is the force on M1 along +y (Manglieva & Beknazarov's lambda = Y);
 ``lambda_rod`` gives the force ``lambda_rod (cos(theta), sin(theta))`` on M2 (the opposite on
-M1): the seed's lambda_1 of (1.83); by Chetaev's rule ``lambda_midpoint`` gives the force
-``lambda_midpoint (-sin(theta), cos(theta))`` on each point: the seed's lambda_2 of (1.83).
-(The seed's own normalizations f2 = ((x2-x1)^2 + (y2-y1)^2 - l^2)/2 and f3 = (1.67) give
+M1): Manglieva & Beknazarov's lambda_1 of (1.83); by Chetaev's rule ``lambda_midpoint`` gives the force
+``lambda_midpoint (-sin(theta), cos(theta))`` on each point: Manglieva & Beknazarov's lambda_2 of (1.83).
+(Manglieva & Beknazarov's own normalizations f2 = ((x2-x1)^2 + (y2-y1)^2 - l^2)/2 and f3 = (1.67) give
 lambda_1 = l lambda_f2 and lambda_2 = l lambda_f3.)
 
 Multipliers (derived from (1.83) with mu = 0 and the second derivatives (1.85); with
@@ -35,7 +35,7 @@ midpoint velocity is (x1' - (l/2) s theta', (l/2) c theta'), and (1.67) reduces 
 
     x1' sin(theta) = (l/2) theta'     (1.88)  ==>   tan(theta/2) = tan(theta0/2) exp(2 (x1 - x10)/l).
 
-The seed prints ``tg(theta/2) = e^{x1}``: dimensionally wrong (x1 is a length) and without the
+The paper prints ``tg(theta/2) = e^{x1}``: dimensionally wrong (x1 is a length) and without the
 integration constant; it holds only for l = 2 (in the units of x1) with a special origin.
 ``run`` checks the correct first integral along the simulation and that the printed one is
 not constant (l = 0.8 here).
@@ -82,7 +82,8 @@ from ..modeling.model import Constraint, Model
 
 NAME = "painleve-conditional-constraint"
 ORDER = 32
-TITLE = "Two points on a rod, midpoint velocity along the rod (seed 000, sec. 1.3 problem 1, (1.87)-(1.92))"
+TITLE = ("Two points on a rod whose midpoint moves along the rod, smooth guide: reactions of a "
+         "conditional constraint (Manglieva & Beknazarov 2022, (1.87)-(1.92))")
 FILE = "painleve_conditional_constraint.toml"
 
 MIDPOINT = "((x2 - x1)*(y2' + y1') - (y2 - y1)*(x2' + x1'))/l"
@@ -116,7 +117,7 @@ def build(m1: float = 1.0, m2: float = 2.0, l: float = 0.8, g: float = 9.81, X: 
 def build_lagrange2(m1: float = 1.0, m2: float = 2.0, l: float = 0.8, g: float = 9.81,
                     X: float = 1.5, theta0: float = 1.0, thetad0: float = 0.5,
                     t_end: float = 5.0) -> Model:
-    """The seed's one-coordinate model (1.93)-(1.98) with f = 0: an independent check."""
+    """Manglieva & Beknazarov's one-coordinate model (1.93)-(1.98) with f = 0: an independent check."""
     return Model(
         name="Two points on a rod, midpoint along the rod: Lagrange II in theta (1.93)",
         coordinates=["theta"],
@@ -159,7 +160,7 @@ def first_integral(theta, x1, l):
 
 
 def printed_integral(theta, x1):
-    """The seed's (1.92) as printed, ``tan(theta/2) e^{-x1}`` (should be 1): not constant."""
+    """Manglieva & Beknazarov's (1.92) as printed, ``tan(theta/2) e^{-x1}`` (should be 1): not constant."""
     return np.tan(theta / 2) * np.exp(-x1)
 
 

@@ -2,7 +2,7 @@
 law of the system, Lagrange II with friction, static friction -- when M1 stays put.
 
 Source: Manglieva & Beknazarov (2022), sec. 1.3, problem 1, eqs. (1.66)-(1.100) (the problem
-is from Dobronravov's book, ref. [72] of the seed).  The smooth system (f = 0) is the example
+is from Dobronravov's book, ref. [72] of the paper).  The smooth system (f = 0) is the example
 ``painleve-conditional-constraint``; its docstring lists the misprints of the frictionless
 formulas ((1.92), (1.96), (1.99), the constraint forces after (1.80), lambda_1 at rest).
 
@@ -10,7 +10,7 @@ Model (Oy DOWN, gravity +g along y).  M1 (mass m1) at (x1, y1) in a rough horizo
 y1 = 0 (Coulomb, coefficient f, static = kinetic; two-sided, as the absolute values of (1.100)
 imply), pushed by the horizontal force X; M2 (mass m2) at (x2, y2) on a rigid massless rod of
 length l, x2 = x1 + l cos(theta), y2 = l sin(theta); the velocity of the rod's midpoint is
-directed along the rod (1.67).  Constraints and multipliers (the seed's):
+directed along the rod (1.67).  Constraints and multipliers (Manglieva & Beknazarov's):
 
     rod:       sqrt((x2 - x1)^2 + (y2 - y1)^2) - l = 0          lambda_1: lambda_1 (c, s) on M2,
     midpoint:  ((x2 - x1)(y2' + y1') - (y2 - y1)(x2' + x1'))/l = 0     lambda_2: lambda_2 (-s, c) on each,
@@ -24,7 +24,7 @@ possible velocity: ``rho_1 = m1 mu (1, 0)`` on M1, ``rho_2 = m2 mu (cos 2theta, 
 on M2 (1.79)-(1.80), ``R_tau = (m1 + m2) mu`` (the friction force on M1).  The constraint
 multipliers are those of the smooth system, (1.87) and (1.89), for any masses and any f --
 ``run`` checks them (evaluation's constraint parts) with and without friction along the motion.
-The friction part has no vertical component on M1, so the seed's lambda (line, along +y) is
+The friction part has no vertical component on M1, so Manglieva & Beknazarov's lambda (line, along +y) is
 exactly -N.
 
 Friction law (derived).  Coulomb |R_tau| = f |lambda|, opposite to x1':
@@ -42,7 +42,7 @@ friction power is R_tau x1').  With v = x1':
     R_tau = -f sign(v) |N|,   N = m1 g - m2 g cos(2 theta) + 4 m2 v^2 sin(theta)/l      (= -lambda, (1.89)).
 
 N does not depend on the accelerations: no Painleve paradox for any f.  In theta, (*) is the
-seed's (1.98) with ``eps = sign(x1')`` (not the eps of (1.82)):
+Manglieva & Beknazarov's (1.98) with ``eps = sign(x1')`` (not the eps of (1.82)):
 
     (m1 + m2) l/4 (theta''/s^2 - c theta'^2/s^3) = m2 g c + X/(2 s) + f eps lambda/(2 s).    (1.98)
 
@@ -91,7 +91,8 @@ from .painleve_conditional_constraint import MIDPOINT, angle, first_integral, mu
 
 NAME = "painleve-conditional-constraint-rough"
 ORDER = 34
-TITLE = "Two points, midpoint along the rod, ROUGH guide: (1.82) swapped, (1.98), static friction (1.100)"
+TITLE = ("Two points on a rod whose midpoint moves along the rod, rough guide: sliding and "
+         "sticking friction (Manglieva & Beknazarov 2022, (1.98), (1.100))")
 FILE = "painleve_conditional_constraint_rough.toml"
 
 KEYS = ("m1", "m2", "l", "g", "X", "f", "theta0", "thetad0")
@@ -150,7 +151,7 @@ def acceleration(theta, v, sigma, p):
 
 
 def friction_law_mu(lam, sigma, p):
-    """The seed's mu from lambda (derived): ``-f sigma |lambda| / (m1 + m2)``."""
+    """Manglieva & Beknazarov's mu from lambda (derived): ``-f sigma |lambda| / (m1 + m2)``."""
     return -p["f"] * sigma * np.abs(lam) / (p["m1"] + p["m2"])
 
 
@@ -202,7 +203,7 @@ def reference_motion(p: dict, theta0: float, v0: float, t_end: float) -> list:
 
 def split_at(model: Model, q, qd):
     """Evaluation at a state: ``(evaluation, lambda_1, lambda_2, lambda, mu, friction part)``
-    with lambda_1, lambda_2, lambda the constraint parts (the seed's multipliers) and mu the
+    with lambda_1, lambda_2, lambda the constraint parts (Manglieva & Beknazarov's multipliers) and mu the
     friction part of M1 / m1."""
     from ..analysis.evaluation import evaluate
 

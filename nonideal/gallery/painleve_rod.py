@@ -58,7 +58,6 @@ residuals.
 
 from __future__ import annotations
 
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -69,7 +68,8 @@ from ..modeling.model import Model
 
 NAME = "painleve-rod"
 ORDER = 42
-TITLE = "Painleve's rod on a rough floor: paradox for mu > (1 + 3cos^2 theta)/(3 sin theta cos theta) (min 4/3)"
+TITLE = ("Painleve's rod on a rough floor: paradox for mu > (1 + 3cos^2 theta)/(3 sin theta cos "
+         "theta) (Painleve 1895; at least 4/3)")
 FILE = "painleve_rod.toml"
 
 #: angles at which run() prints the critical coefficient
@@ -293,7 +293,7 @@ def normal_case(model: Model) -> dict:
 
 
 def run(verbose: bool = True, png: str | Path | None = None) -> dict:
-    """Region plot (to *png*, default a file in the temporary directory), critical
+    """Region plot (to *png*, only when given), critical
     coefficients, the two paradoxes, the normal case, all forms."""
     from .. import gallery
     from ..analysis.crosscheck import compare_forms
@@ -311,8 +311,9 @@ def run(verbose: bool = True, png: str | Path | None = None) -> dict:
     # (b) the paradoxes, mu = 2 > mu_c(1.1) = 1.3335
     inconsistent = build(mu=2.0)
     indeterminate = build(mu=2.0, xd0=-5.0, thetad0=6.0)
-    png = Path(png) if png is not None else Path(tempfile.gettempdir()) / "painleve_rod_region.png"
-    region_plot(png, [(1.1, 2.0, "paradox states (b)"), (1.1, p["mu"], "normal case (c)")])
+    if png is not None:   # nothing is written unless asked for
+        png = Path(png)
+        region_plot(png, [(1.1, 2.0, "paradox states (b)"), (1.1, p["mu"], "normal case (c)")])
     exc = {"inconsistent": paradox(inconsistent), "indeterminate": paradox(indeterminate)}
     mu_c = critical_mu(1.1)
     g_free = {"inconsistent": free_gap_acceleration(1.1, 0.0, p),
@@ -340,7 +341,7 @@ def run(verbose: bool = True, png: str | Path | None = None) -> dict:
              "tilted, stick": compare_forms(single, contact_state="stick").worst()}
     ok = (err_crit < 1e-10 and err_b < 1e-10 and no_paradox_forward and paradox_ok and normal_ok
           and max(cross.values()) < 1e-10 and g_free["inconsistent"] < 0 < g_free["indeterminate"])
-    out = {"ok": bool(ok), "png": str(png),
+    out = {"ok": bool(ok), "png": str(png) if png is not None else None,
            "critical_mu": [(float(t), float(cf), float(lib)) for t, cf, lib, _, _ in crit],
            "critical_mu_relative_error": err_crit, "compliance_relative_error": err_b,
            "paradox_messages": {k: str(e) if e else None for k, e in exc.items()},
@@ -353,7 +354,8 @@ def run(verbose: bool = True, png: str | Path | None = None) -> dict:
                   f"critical_friction {lib:.12f}; b(mu = {p['mu']}) = {b:.6f}")
         print(f"    relative errors: mu_c {err_crit:.1e}, b {err_b:.1e}; sliding towards the rod "
               f"(s = +1): no critical mu = {no_paradox_forward}")
-        print(f"    region plot: {png}")
+        print(f"    region plot: {png}" if png is not None else
+              "    region plot: not drawn (painleve_rod.run(png=PATH) draws it)")
         for k, e in exc.items():
             print(f"(b) mu = 2 at theta = 1.1 ({k}, g_free'' = {g_free[k]:+.4f}):")
             print("    " + (str(e).replace("\n", "\n    ") if e else "NO PARADOX RAISED"))

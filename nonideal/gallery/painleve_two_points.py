@@ -3,10 +3,10 @@
 Source: Manglieva & Beknazarov (2022), *On the motion of systems with nonholonomic non-ideal
 constraints*, sec. 1.1, eqs. (1.18)-(1.28) -- here with the friction coefficient f = 0 (the
 multipliers (1.27)-(1.28) are the same with and without friction: that is the point of the
-seed's "extended method of combining constraints"; with f = 0 they are simply the
+Manglieva & Beknazarov's "extended method of combining constraints"; with f = 0 they are simply the
 multipliers of the smooth system).
 
-Model (the seed's conventions).  The axis Oy points DOWN and gravity is +g along y.  Point M
+Model (Manglieva & Beknazarov's conventions).  The axis Oy points DOWN and gravity is +g along y.  Point M
 (mass m) at (x, y) slides on the line y = 0; point M1 (mass m1) at (x1, y1) hangs on a rigid
 massless rod of length l, x1 = x + l cos(theta), y1 = y + l sin(theta) (theta = angle of the
 rod M M1 with Ox; theta = pi/2 is M1 straight below M).  Two holonomic constraints:
@@ -14,17 +14,17 @@ rod M M1 with Ox; theta = pi/2 is M1 straight below M).  Two holonomic constrain
     line:  f_line = y = 0,
     rod:   f_rod  = sqrt((x1 - x)^2 + (y1 - y)^2) - l = 0.
 
-Multipliers and signs (mapping to the seed).  The library's reaction is ``sum lambda grad f``:
+Multipliers and signs (mapping to the paper).  The library's reaction is ``sum lambda grad f``:
 
-* ``lambda_line`` is the force of the line on M along +y (downwards): it is the seed's
+* ``lambda_line`` is the force of the line on M along +y (downwards): it is Manglieva & Beknazarov's
   ``lambda = Y`` of (1.18) ``m y'' = lambda - lambda_1 sin(theta) + m g``;
 * the rod is normalized by its length, so ``grad_(x1, y1) f_rod = (cos(theta), sin(theta))`` and
   the force on M1 is ``lambda_rod (cos(theta), sin(theta))`` (on M the opposite): exactly the
-  seed's ``R'_1 = lambda_1 (cos(theta), sin(theta))`` of (1.16).  Hence ``lambda_rod`` is the
-  seed's ``lambda_1`` and ``-lambda_rod`` is the rod tension (> 0 while M1 hangs).  (The seed's
+  Manglieva & Beknazarov's ``R'_1 = lambda_1 (cos(theta), sin(theta))`` of (1.16).  Hence ``lambda_rod`` is the
+  Manglieva & Beknazarov's ``lambda_1`` and ``-lambda_rod`` is the rod tension (> 0 while M1 hangs).  (Manglieva & Beknazarov's
   own form ``(x1 - x)^2 + (y1 - y)^2 - l^2`` would give ``lambda_1 = 2 l lambda``.)
 
-Published multipliers (seed (1.27), (1.28); derived again here from (1.18) with mu = 0 and the
+Published multipliers (Manglieva & Beknazarov 2022, (1.27), (1.28); derived again here from (1.18) with mu = 0 and the
 second derivative of the rod constraint, see (1.26)):
 
     lambda_1 = -(l theta'^2 + g sin(theta)) m m1 / (m + m1 cos^2(theta)),          (1.27)
@@ -34,7 +34,7 @@ Both agree with the simulation and with evaluation at random states for any mass
 (``run`` checks m/m1 = 0.5, 1, 6, 1/25).  Also conserved: the horizontal momentum
 ``m x' + m1 x1'`` and the energy.
 
-Misprints found in sec. 1.1 of the seed:
+Misprints found in sec. 1.1 of the paper:
 
 * (1.5): for m = m1 the printed ``lambda_1 = -(theta'^2 + g sin(theta))/(1 + cos^2(theta))``
   drops the factor m and the length l (it is not even a force); (1.27) with m = m1 gives
@@ -43,7 +43,7 @@ Misprints found in sec. 1.1 of the seed:
 * (1.24): ``y = l sin(theta)`` should read ``y1 = l sin(theta)`` (y = 0 is the line).
 * (1.26) is correct (the mu terms cancel as printed); (1.27)-(1.28) are correct.
 * (1.29), second equation: ``l theta'' - x'' sin(theta) = -g cos(theta)`` has the wrong sign;
-  the seed's own Lagrange-II equation (1.37) ``l theta'' - x'' sin(theta) = g cos(theta)`` is
+  Manglieva & Beknazarov's own Lagrange-II equation (1.37) ``l theta'' - x'' sin(theta) = g cos(theta)`` is
   right (with Oy down, theta = pi/2 must be the stable equilibrium).  See the example
   ``painleve-two-points-xtheta``.
 * before (1.37) the generalized force is printed ``m g l cos(theta)``; it is ``m1 g l cos(theta)``.
@@ -60,7 +60,8 @@ from ..modeling.model import Constraint, Model
 
 NAME = "painleve-two-points"
 ORDER = 30
-TITLE = "Painleve: two points on a rod, one on a smooth line, redundant coordinates (seed 000, (1.27)-(1.28))"
+TITLE = ("Painleve's two points on a rod, one on a smooth line: multipliers in redundant "
+         "coordinates (Manglieva & Beknazarov 2022, (1.27)-(1.28))")
 FILE = "painleve_two_points.toml"
 
 
@@ -83,14 +84,14 @@ def build(m: float = 1.0, m1: float = 2.0, l: float = 0.5, g: float = 9.81, thet
 
 
 def multipliers(theta, thetad, m, m1, l, g):
-    """Seed (1.27), (1.28): ``(lambda_1, lambda)`` = (rod, line) multipliers."""
+    """Manglieva & Beknazarov 2022, (1.27), (1.28): ``(lambda_1, lambda)`` = (rod, line) multipliers."""
     theta, thetad = np.asarray(theta, float), np.asarray(thetad, float)
     lam1 = -(l * thetad ** 2 + g * np.sin(theta)) * m * m1 / (m + m1 * np.cos(theta) ** 2)
     return lam1, -m * g + lam1 * np.sin(theta)
 
 
 def printed_1_5(theta, thetad, g):
-    """The seed's (1.5) as printed (equal masses): dimensionally wrong, see the docstring."""
+    """Manglieva & Beknazarov's (1.5) as printed (equal masses): dimensionally wrong, see the docstring."""
     return -(thetad ** 2 + g * np.sin(theta)) / (1 + np.cos(theta) ** 2)
 
 

@@ -5,16 +5,16 @@ Source: Manglieva & Beknazarov (2022), *On the motion of systems with nonholonom
 constraints*, sec. 1.1, eqs. (1.1)-(1.29), (1.35), (1.42) (after Painleve, *Lecons sur le
 frottement*, 1895, appendix 1).
 
-Model (the seed's conventions: Oy points DOWN, gravity +g along y).  M (mass m) at (x, y)
+Model (Manglieva & Beknazarov's conventions: Oy points DOWN, gravity +g along y).  M (mass m) at (x, y)
 slides on the rough line Ox (Coulomb, coefficient f, static = kinetic); M1 (mass m1) at
 (x1, y1) hangs on a rigid massless rod of length l, x1 = x + l cos(theta), y1 = y + l sin(theta)
 (theta: angle of M M1 with Ox, pi/2 = M1 straight below M).
 
-    rod:   sqrt((x1 - x)^2 + (y1 - y)^2) - l = 0,   multiplier lambda_rod = the seed's lambda_1
+    rod:   sqrt((x1 - x)^2 + (y1 - y)^2) - l = 0,   multiplier lambda_rod = Manglieva & Beknazarov's lambda_1
            (force lambda_1 (cos(theta), sin(theta)) on M1, the opposite on M);
     line:  contact, gap -y >= 0, slip U = x', friction -f N sign(x') (N: upward normal force).
 
-Painleve's split (seed (1.6)-(1.17); the library's ``R = G^T lambda + M V mu``).  Taking the
+Painleve's split (Manglieva & Beknazarov 2022, (1.6)-(1.17); the library's ``R = G^T lambda + M V mu``).  Taking the
 virtual displacements ``rho dt / m`` (mass-weighted) the friction forces are
 ``rho = (m mu, 0)`` on M and ``rho_1 = m1 mu (cos^2(theta), sin(theta) cos(theta))`` on M1
 (1.15), (1.17): they accelerate the system along the possible velocity
@@ -49,7 +49,7 @@ x' (sigma = sign(x')), the line pressed (R_y = -N < 0):
     mu = f lambda / (m + m1 cos^2(theta) - f m1 sin(theta) cos(theta))   if x' > 0,
     mu = -f lambda / (m + m1 cos^2(theta) + f m1 sin(theta) cos(theta))  if x' < 0.
 
-**Misprint (1.22)-(1.23)**: the seed prints these two laws with the conditions swapped
+**Misprint (1.22)-(1.23)**: the paper prints these two laws with the conditions swapped
 (``-f lambda/(... + f m1 sin cos)`` "if x' > 0"); as printed, friction would push M along its
 velocity (lambda < 0).  (1.21) is right.
 
@@ -60,7 +60,7 @@ y = 0 and the physical reaction (F, -N) on M, F = -f sigma N):
     l theta'' - x'' sin(theta) = g cos(theta),                                  (1.37)
     N = (m + m1) g - m1 l (theta'' cos(theta) - theta'^2 sin(theta)).            ((1.39), N = -R_y)
 
-Eliminating lambda, lambda_1, mu from (1.18) with the friction law gives (the seed's epsilon:
+Eliminating lambda, lambda_1, mu from (1.18) with the friction law gives (Manglieva & Beknazarov's epsilon:
 eps = 1 if x' < 0, eps = -1 if x' > 0; P = l theta'^2 + g sin(theta), s, c = sin, cos(theta))
 
     (m + m1 c^2 + eps f m1 s c) x'' = m1 P (c (m + m1 c^2 + eps f m1 s c) + eps f m s)/(m + m1 c^2)
@@ -71,7 +71,7 @@ swap of (1.22)-(1.23) again) and with ``m1 eps f sin(theta)`` where the derivati
 ``m eps f sin(theta)``; its second equation has ``-g cos(theta)`` for ``+g cos(theta)`` (see
 ``painleve-two-points``).  ``run`` evaluates both forms at simulated states.
 
-**Misprints elsewhere in the seed** (checked against the library): (1.40)-(1.41), the same
+**Misprints elsewhere in the paper** (checked against the library): (1.40)-(1.41), the same
 system in ``phi = pi/2 - theta`` from a downward Oy -- see
 ``tests/test_manglieva2022_painleve_phi_rough.py``; (1.55) cites (1.54) for (1.53); the
 generalized friction force is ``Q_i = sum R^tau_gamma dx_gamma/dq_i`` (printed with ``mu_i``);
@@ -107,7 +107,9 @@ from .painleve_two_points import MASSES, angle, multipliers, random_states, stat
 
 NAME = "painleve-two-points-rough"
 ORDER = 33
-TITLE = "Painleve: two points on a rod, ROUGH line: split, friction law (1.22)-(1.23), stick/slip (seed 000)"
+TITLE = ("Painleve's two points on a rod, one on a rough line: reaction split into constraint and "
+         "friction forces, the system's friction law, stick and slip (Manglieva & Beknazarov 2022,"
+         " (1.22)-(1.23))")
 FILE = "painleve_two_points_rough.toml"
 
 #: the slip-reversal case of ``run``
@@ -136,7 +138,7 @@ def build(m: float = 1.0, m1: float = 2.0, l: float = 0.5, g: float = 9.81, f: f
 # ------------------------------------------------------------------ closed forms (derived)
 
 def friction_law_mu(theta, lam, sigma, m, m1, f):
-    """The seed's mu from lambda (the line's constraint multiplier, along +y), derived:
+    """Manglieva & Beknazarov's mu from lambda (the line's constraint multiplier, along +y), derived:
     ``mu = f sigma lambda / (m + m1 c^2 - f sigma m1 s c)``, sigma = sign(x')."""
     s, c = np.sin(theta), np.cos(theta)
     return f * sigma * lam / (m + m1 * c * c - f * sigma * m1 * s * c)
@@ -286,8 +288,8 @@ def independence_of_friction(l: float = 0.5, g: float = 9.81) -> float:
 
 
 def classic_split(model: Model, at: dict, theta: float):
-    """Painleve's original split (virtual displacements ``rho dt``, not mass-weighted, seed
-    (1.1)-(1.4)): ``(lambda_1, mu)`` from the physical reaction at the state *at*.  With
+    """Painleve's original split (virtual displacements ``rho dt``, not mass-weighted, Manglieva & Beknazarov
+    2022, (1.1)-(1.4)): ``(lambda_1, mu)`` from the physical reaction at the state *at*.  With
     ``G`` the gradients of rod and line, ``R = G^T lambda + nu`` with ``G nu = 0``."""
     from ..analysis.evaluation import evaluate, painleve_split
 

@@ -7,10 +7,10 @@ release from constraints": M at (x, y), M1 at (x + l cos(theta), y + l sin(theta
 the line remains as a constraint
 
     line: y = 0,     multiplier lambda_line = force of the line on M along +y (downwards)
-                     = the seed's lambda (1.28) = R_y of (1.39).
+                     = Manglieva & Beknazarov's lambda (1.28) = R_y of (1.39).
 
 Lagrange II eliminates y (independent coordinates x, theta: ``[forms] independent``).  With
-mu = 0 the equations are the seed's (1.35) and (1.37):
+mu = 0 the equations are Manglieva & Beknazarov's (1.35) and (1.37):
 
     (m + m1) x'' - m1 l theta'' sin(theta) - m1 l theta'^2 cos(theta) = 0,           (1.35)
     l theta'' - x'' sin(theta) = g cos(theta),                                      (1.37)
@@ -37,7 +37,8 @@ from .painleve_two_points import MASSES, form_agreement, multipliers, random_sta
 
 NAME = "painleve-two-points-xtheta"
 ORDER = 31
-TITLE = "Painleve: two points on a rod, smooth line, coordinates (x, y, theta), Lagrange II (seed 000, (1.35)-(1.39))"
+TITLE = ("Painleve's two points on a rod, smooth line, in coordinates (x, y, theta): Lagrange's "
+         "equations of the second kind (Manglieva & Beknazarov 2022, (1.35)-(1.39))")
 FILE = "painleve_two_points_xtheta.toml"
 
 

@@ -1,7 +1,7 @@
 """Two particles whose velocities stay perpendicular: a constraint quadratic in the velocities.
 
 Source: nonlinear nonholonomic constraints of Chetaev type (Yushkov 1999, ch. II sec. 5,
-"virtual displacements by Chetaev"; SPEC sec. 2).  A constraint homogeneous of degree k in
+"virtual displacements by Chetaev").  A constraint homogeneous of degree k in
 the velocities satisfies Euler's identity ``d(phi)/d(q') . q' = k phi``; with Chetaev's rule
 the power of its reaction is ``lambda k phi = 0``, so the energy is conserved.  This is the
 simplest such constraint of degree 2 that is not a product of linear ones.
@@ -33,7 +33,8 @@ from ..modeling.model import Constraint, Model
 
 NAME = "perpendicular-velocities"
 ORDER = 51
-TITLE = "Two particles with perpendicular velocities x1'x2' + y1'y2' = 0 (degree-2 constraint, energy conserved)"
+TITLE = ("Two particles with perpendicular velocities x1'x2' + y1'y2' = 0 (degree-2 constraint, "
+         "energy conserved)")
 FILE = "perpendicular_velocities.toml"
 
 INITIAL = {"x1": 1.0, "y1": 0.0, "x2": 2.5, "y2": 0.3, "x1'": 0.0, "y1'": 1.2, "x2'": 0.8, "y2'": 0.0}

@@ -71,7 +71,8 @@ from ..modeling.model import Model
 
 NAME = "sphere-sliding-on-plane"
 ORDER = 41
-TITLE = "Sphere launched sliding on a rough plane: rolling from t* = 2|U0|/(7 mu g), v_f = v0 - (2/7) U0"
+TITLE = ("Sphere launched sliding on a rough plane: rolling from t* = 2|U0|/(7 mu g), v_f = v0 - "
+         "(2/7) U0")
 FILE = "sphere_sliding_on_plane.toml"
 
 V0 = (2.0, 1.0)

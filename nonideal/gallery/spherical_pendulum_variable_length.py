@@ -4,17 +4,17 @@ Source: M. P. Yushkov, *Equations of motion of nonholonomic systems and variatio
 principles of mechanics* (1999), ch. I, sec. 1, eq. (1.11): the length of a spherical
 pendulum is changed by a prescribed law, ``y1^2 + y2^2 + y3^2 - l^2(t) = 0``; when the
 constraint is realized by pulling the thread in, its reaction is the tension N, normal to the
-sphere of the moment, and the constraint is ideal (``T0 = 0`` in the seed's notation).
+sphere of the moment, and the constraint is ideal (``T0 = 0`` in Yushkov's notation).
 
 Model.  A point of mass m at r = (x, y, z) (z up, suspension point at the origin) under
 gravity -g e_z, on a thread of prescribed length
 
     l(t) = l0 (1 - eps sin(w t)).
 
-The constraint is written ``f = l(t) - |r| = 0`` (not the seed's squared form): then
+The constraint is written ``f = l(t) - |r| = 0`` (not Yushkov's squared form): then
 ``grad f = -r/|r| = -e_r`` and the reaction ``lambda grad f = -lambda e_r`` points from the
 bob to the suspension point, so **lambda = N, the tension**, with no normalization factor
-(the seed's ``|r|^2 - l^2`` would give N = 2 l lambda, with the opposite sign).
+(Yushkov's ``|r|^2 - l^2`` would give N = 2 l lambda, with the opposite sign).
 
 Closed form of the tension (derived).  With spherical angles (theta from the downward
 vertical, phi the azimuth), r = l (sin(theta) cos(phi), sin(theta) sin(phi), -cos(theta)), the

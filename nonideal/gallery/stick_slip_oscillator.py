@@ -62,7 +62,8 @@ from ..modeling.model import Model
 
 NAME = "stick-slip-oscillator"
 ORDER = 43
-TITLE = "Stick-slip oscillator on a moving belt: limit cycle T = 2d/v_b + (pi + 2 atan(v_b omega/((mu_s-mu) g)))/omega"
+TITLE = ("Stick-slip oscillator on a moving belt: limit cycle T = 2d/v_b + (pi + 2 atan(v_b "
+         "omega/((mu_s-mu) g)))/omega")
 FILE = "stick_slip_oscillator.toml"
 
 

@@ -61,7 +61,7 @@ class RegularizedCoulomb:
 
 @dataclass(frozen=True)
 class LinearizedCoulomb:
-    """The epsilon-linear law of Kalinin & Novozhilov (seed 001):
+    """The epsilon-linear law of Kalinin & Novozhilov (Kalinin & Novozhilov):
     ``F = -mu N U/eps`` for ``|U| <= eps``, ``-mu N U/|U|`` outside.
 
     As ``eps -> 0`` its solutions tend to the sticking (nonholonomic) motion when sticking is

@@ -205,3 +205,41 @@ class Model:
             cached = {key: float(sp.sympify(expr).xreplace(values)) for key, expr in self.initial.items()}
             self.__dict__["_numeric_initial"] = cached
         return dict(cached)
+
+    # ------------------------------------------------------------------ Jupyter
+    def _latex_rows(self) -> list[str]:
+        from .symbols import latex_names
+
+        def tex(expr) -> str:
+            expr = sp.sympify(expr)
+            return sp.latex(expr, symbol_names=latex_names(expr.free_symbols))
+
+        rows = []
+        if self.kinetic != 0:
+            rows.append("T &= " + tex(self.kinetic))
+        if self.potential != 0:
+            rows.append("V &= " + tex(self.potential))
+        for c in self.constraints:
+            rows.append(tex(c.expr) + (r" &\ge 0" if c.unilateral else " &= 0")
+                        + rf"\quad\text{{({c.name}, {c.kind})}}")
+        for c in self.contacts:
+            rows.append(tex(c.gap) + rf" &\ge 0\quad\text{{(contact {c.name})}}")
+        return rows
+
+    def _repr_latex_(self) -> str:
+        """Jupyter: the declared energy, constraints (``= 0``) and contact gaps (``>= 0``)."""
+        rows = self._latex_rows() or [r"\text{(energy from the bodies)}"]
+        return "$$\\begin{aligned}\n" + " \\\\\n".join(rows) + "\n\\end{aligned}$$"
+
+    def _repr_html_(self) -> str:
+        """Jupyter: name, coordinates, parameters, bodies, constraints and contacts."""
+        from html import escape
+
+        params = ", ".join(f"{escape(k)} = {v:g}" for k, v in self.parameter_values.items())
+        items = [f"<b>{escape(self.name)}</b>",
+                 f"coordinates: {escape(', '.join(self.coordinates))}",
+                 f"parameters: {params or '(none)'}"]
+        if self.bodies:
+            items.append("bodies: " + escape(", ".join(f"{b.name} ({type(b).__name__})" for b in self.bodies)))
+        items.append(f"constraints: {len(self.constraints)}, contacts: {len(self.contacts)}")
+        return "<div>" + "<br>".join(items) + "<br>" + self._repr_latex_() + "</div>"

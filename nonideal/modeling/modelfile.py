@@ -1,6 +1,6 @@
 """Model files (TOML) -> :class:`~nonideal.model.Model`.
 
-The format is the one of the SPEC (``format = 1``), extended -- never broken -- with:
+The format (``format = 1``, reference: docs/MODEL_FORMAT.md) is extended -- never broken -- with:
 
 * ``[[bodies]]`` (``type = "particle" | "planar" | "rigid"``) and ``[gravity] vector`` to
   assemble the kinetic and potential energy from geometry;

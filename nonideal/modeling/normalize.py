@@ -86,11 +86,11 @@ class Normalizer:
                     uses[name].append(where)
         if not uses:
             return
+        known = [*self.m.parameters, *self.m.coordinates, *RESERVED_NAMES]
+        if all(did_you_mean(name, known) for name in uses):
+            return   # typos: each message already suggests the name
         if len(self.unknown) == 1:
             name = next(iter(uses))
-            known = [*self.m.parameters, *self.m.coordinates, *RESERVED_NAMES]
-            if did_you_mean(name, known):
-                return   # a typo: the message already suggests the name
             self.problems.append(f"'{name}' is not a parameter, coordinate or known function: define "
                                  f"it in [parameters] as {name} = value (SI units), or correct the "
                                  "spelling; there are no default values")
@@ -506,7 +506,9 @@ class Normalizer:
 
         if isinstance(law, Coulomb):
             mu = coefficient(law.mu, "mu")
-            mus = coefficient(law.mu_static if law.mu_static is not None else law.mu, "mu_static")
+            # mu_static defaults to mu: a problem of mu is not reported again under a key the
+            # user did not write
+            mus = coefficient(law.mu_static, "mu_static") if law.mu_static is not None else mu
             if mu is None or mus is None:
                 return None
             return Coulomb(mu, mus)

@@ -1,6 +1,6 @@
-"""Generalized Gauss principle for systems with friction (seed 000, section 2.2).
+"""Generalized Gauss principle for systems with friction (Manglieva & Beknazarov 2022, section 2.2).
 
-An independent numerical route to the accelerations, following the seed's construction
+An independent numerical route to the accelerations, following Manglieva & Beknazarov's construction
 rather than the saddle-point solve of the other forms:
 
 1. the constraint forces ``lambda`` do not depend on friction: they are those of Gauss's

@@ -340,3 +340,44 @@ def _least_distance(G: np.ndarray, h: np.ndarray) -> np.ndarray | None:
     if abs(r[-1]) < 1e-14:
         return None
     return -r[:-1] / r[-1]
+
+
+def admissible_ranges(solver, mode, layout, B: np.ndarray, R: np.ndarray, cout: dict,
+                      sides: int = 64) -> dict[int, tuple[float, float]]:
+    """The range of each indeterminate multiplier over ALL admissible distributions: for each
+    layout row ``j`` whose multiplier is not unique, ``(min, max)`` of ``lambda_j`` over
+    ``lambda_p + Z w`` subject to the conditions of the module docstring (a disc
+    ``|F| <= mu_s N`` replaced by its inscribed polygon of *sides* sides, so that the bounds
+    are attained).  ``-inf``/``inf`` where a bound does not exist.  Empty when the mode is
+    determinate or has no admissible distribution."""
+    m = len(layout)
+    U, S, Vt = np.linalg.svd(B, full_matrices=True)
+    rank = int(np.sum(S > NULL_RTOL * max(S[0], 1e-300))) if S.size else 0
+    lam = Vt[:rank].T @ ((U[:, :rank].T @ R) / S[:rank])
+    Z = Vt[rank:].T
+    free = np.linalg.norm(Z, axis=1) > DETERMINATE_TOL if Z.size else np.zeros(m, dtype=bool)
+    if not free.any():
+        return {}
+    linear, cones = _conditions(solver, mode, layout, lam, cout, free)
+    rows = [c for c in linear]
+    for nv, T in cones:               # n . lambda - |T lambda| >= 0, inscribed polygon
+        c = np.cos(np.pi / sides)
+        for k in range(sides):
+            u = np.array([np.cos(2 * np.pi * k / sides), np.sin(2 * np.pi * k / sides)])[:len(T)]
+            rows.append(c * nv - u @ T)
+    A = np.array([Z.T @ r for r in rows]).reshape(len(rows), Z.shape[1])
+    b = np.array([r @ lam for r in rows])
+    out = {}
+    for j in np.flatnonzero(free):
+        bounds = []
+        for sign in (1.0, -1.0):      # min and max of lam_j + Z_j w  s.t.  A w + b >= 0
+            res = linprog(sign * Z[j], A_ub=-A, b_ub=b, bounds=[(None, None)] * Z.shape[1],
+                          method="highs")
+            if res.status == 3:
+                bounds.append(-sign * np.inf)
+            elif res.status != 0:
+                return {}
+            else:
+                bounds.append(lam[j] + sign * res.fun)
+        out[int(j)] = (float(bounds[0]), float(bounds[1]))
+    return out

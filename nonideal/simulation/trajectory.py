@@ -176,8 +176,50 @@ class Trajectory:
         return float(self.coordinate(name)[k])
 
     # ---------------------------------------------------------------- outputs
+    # ---------------------------------------------------------------- Jupyter
+    def _final_rows(self) -> list[tuple[str, float, float]]:
+        """(coordinate, value, velocity) at the end; rounding noise against the coordinate's
+        range as 0."""
+        from ..numeric.display import clean
+
+        return [(c, clean(self.q[-1, k], float(abs(self.q[:, k]).max())),
+                 clean(self.qd[-1, k], float(abs(self.qd[:, k]).max())))
+                for k, c in enumerate(self.coordinates)]
+
+    def _repr_latex_(self) -> str:
+        """Jupyter: the state at the end of the run."""
+        from ..modeling.symbols import latex_names
+        import sympy as sp
+
+        names = latex_names([sp.Symbol(c) for c in self.coordinates]
+                            + [sp.Symbol(c + "'") for c in self.coordinates])
+        rows = [f"{names[sp.Symbol(c)]}(t_1) &= {_tex_number(q)}, & {names[sp.Symbol(c + chr(39))]}(t_1) &= "
+                f"{_tex_number(v)}" for c, q, v in self._final_rows()]
+        head = rf"t_1 = {_tex_number(float(self.t[-1]))}" if len(self.t) else ""
+        return "$$\\begin{aligned}\n" + " \\\\\n".join(rows) + "\n\\end{aligned}\\quad " + head + "$$"
+
+    def _repr_html_(self) -> str:
+        """Jupyter: the run (times, samples), its events and the final state."""
+        from html import escape
+
+        if not len(self.t):
+            return f"<div><b>{escape(self.model)}</b>: no samples</div>"
+        events = "".join(
+            f"<tr><td>{e['t']:.10g}</td><td>{escape(str(e.get('type', '')))}</td>"
+            f"<td>{escape(str(e.get('contact', e.get('constraint', ''))))}</td></tr>"
+            for e in self.events[:20])
+        more = f"<br>... {len(self.events) - 20} more events" if len(self.events) > 20 else ""
+        final = "".join(f"<tr><td>{escape(c)}</td><td>{q:.10g}</td><td>{v:.10g}</td></tr>"
+                        for c, q, v in self._final_rows())
+        return (f"<div><b>{escape(self.model)}</b>: t = {self.t[0]:g} .. {self.t[-1]:g}, "
+                f"{len(self.t)} samples, {len(self.events)} events"
+                + (f"<table><tr><th>t</th><th>event</th><th>of</th></tr>{events}</table>{more}"
+                   if events else "")
+                + f"<table><tr><th>coordinate</th><th>value at the end</th><th>velocity</th></tr>"
+                  f"{final}</table></div>")
+
     def to_dict(self) -> dict[str, Any]:
-        """The SPEC's JSON structure of ``simulate`` (non-finite numbers become ``null``)."""
+        """The JSON structure of ``simulate --json`` (non-finite numbers become ``null``)."""
         def arr(a):
             return [float(x) if np.isfinite(x) else None for x in a]
         return {
@@ -277,3 +319,13 @@ def _jsonable(obj):
     if isinstance(obj, float) and not np.isfinite(obj):
         return None
     return obj
+
+
+def _tex_number(x: float, scale: float | None = None) -> str:
+    from ..numeric.display import number
+
+    text = number(x, scale)
+    if "e" in text:
+        mant, exp = text.split("e")
+        return rf"{mant} \cdot 10^{{{int(exp)}}}"
+    return text

@@ -13,7 +13,7 @@ from nonideal.gallery.appell_ladder import (
     landing_time,
     phase_model,
     reactions_closed,
-    reactions_seed,
+    reactions_published,
     release,
 )
 from tests.helpers import cli_json as _cli
@@ -76,7 +76,7 @@ def test_reactions_before_release(model):
     t_r = release(A0, L, G)[2]
     tr = simulate(model, times=np.linspace(0, 0.999 * t_r, 101))
     al, ald = tr.coordinate("alpha"), tr.velocity("alpha")
-    RA, RB = reactions_seed(al, ald, M, L, G)
+    RA, RB = reactions_published(al, ald, M, L, G)
     RA2, RB2 = reactions_closed(al, A0, M, G)
     assert np.max(np.abs(tr.multipliers["wall"] - RA)) < 1e-9
     assert np.max(np.abs(tr.multipliers["floor"] - RB)) < 1e-9
@@ -150,6 +150,6 @@ def test_cli_simulate_and_evaluate():
     assert ev["top_on_floor"]["energy_change"] == pytest.approx(-21.0536866553, abs=1e-8)
     assert sim["qdot"]["x"][-1] == pytest.approx(np.sqrt(2 / 9 * G * L * np.cos(A0) ** 3), abs=1e-9)
     out = _cli("evaluate", path, "--at", "x=l*sin(0.6), y=l*cos(0.6), alpha=0.6, x'=l*cos(0.6), y'=-l*sin(0.6), alpha'=1", "--json")
-    RA, RB = reactions_seed(0.6, 1.0, M, L, G)
+    RA, RB = reactions_published(0.6, 1.0, M, L, G)
     assert out["multipliers"]["wall"] == pytest.approx(RA, rel=1e-12)
     assert out["multipliers"]["floor"] == pytest.approx(RB, rel=1e-12)

@@ -72,7 +72,7 @@ def test_1_105_1_106_unequal_coefficients_both_directions():
     # Painleve's split: the constraint parts are the smooth reactions, whatever the friction
     assert r["errors"]["split"] < 1e-12
     # the seed's (1.106) is for alpha' > 0; pushed up (alpha' < 0) the friction reverses
-    assert r["seed_equation_backwards_min_error"] > 0.1
+    assert r["printed_equation_backwards_min_error"] > 0.1
 
 
 @pytest.mark.parametrize("alpha, alphad", [(0.7, 1.3), (1.0, -0.8)])

@@ -182,11 +182,12 @@ def test_cli_derive_painleve_representation_is_1_18(tmp_path):
     proc = _cli("derive", NAME, "--form", "lagrange1", "--friction", "painleve", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     lines = proc.stdout.splitlines()
-    assert any(ln.strip().startswith("m*x'' = ") and ln.rstrip().endswith("+ m*mu_1") for ln in lines)
-    assert any(ln.strip().startswith("m*y'' = g*m - lambda_line") for ln in lines)
-    assert any(ln.strip().startswith("m1*x1'' = ") and "m1*mu_1 - m1*mu_2*(-y + y1)/(-x + x1)" in ln
+    # the readable form: forces (here the friction force M V mu) first, then the multipliers
+    assert any(ln.strip().startswith("m*x'' = m*mu_1 + ") and "*lambda_rod/" in ln for ln in lines)
+    assert any(ln.strip().startswith("m*y'' = g*m + ") and ln.rstrip().endswith(" - lambda_line")
                for ln in lines)
-    assert any(ln.strip().startswith("m1*y1'' = g*m1 + ") and ln.rstrip().endswith("+ m1*mu_2") for ln in lines)
+    assert any(ln.strip().startswith("m1*x1'' = m1*mu_1 + m1*mu_2*(y - y1)/(-x + x1) + ") for ln in lines)
+    assert any(ln.strip().startswith("m1*y1'' = m1*(g + mu_2) + ") for ln in lines)
     proc = _cli("derive", NAME, "--form", "lagrange2", "--friction", "painleve", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
-    assert "= m*mu_1 + m1*mu_1 - m1*mu_2*y1/sqrt(l**2 - y1**2)" in proc.stdout   # (1.35): mu (m + m1 c^2)
+    assert "= mu_1*(m + m1) - m1*mu_2*y1/sqrt(l**2 - y1**2)" in proc.stdout   # (1.35): mu (m + m1 c^2)

@@ -217,3 +217,18 @@ def test_cli_simulate_json(tmp_path):
     assert [(e["type"], e["contact"]) for e in d["events"]] == [("stick", "A"), ("slip", "A"), ("touch", "B")]
     assert d["events"][2]["t"] == pytest.approx(0.70353011625, rel=1e-9)
     assert d["diagnostics"]["energy_balance_relative"] < 1e-8
+
+
+def test_examples_run_writes_no_file_unasked(tmp_path):
+    import tempfile
+    from pathlib import Path
+
+    from tests.helpers import run_cli
+
+    target = Path(tempfile.gettempdir()) / "painleve_rod_region.png"
+    before = target.stat().st_mtime if target.exists() else None
+    proc = run_cli("examples", "run", "painleve-rod", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert "region plot: not drawn" in proc.stdout
+    assert list(tmp_path.iterdir()) == []
+    assert (target.stat().st_mtime if target.exists() else None) == before

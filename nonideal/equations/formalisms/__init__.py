@@ -21,6 +21,8 @@ sliding friction) keep their multipliers in every form.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from ..dynamics import ConstraintRow, dynamics_of
 from ..eom import EquationsOfMotion
 from ...errors import FormNotApplicable, did_you_mean
@@ -83,6 +85,7 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
             + ", ".join(FORMS)
         )
     dyn = dynamics_of(model)
+    free_flight = rows is None and bool(model.contacts)
     if rows is None:
         rows = dyn.rows()
     if independent is None:
@@ -90,4 +93,11 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
     formalism = FORMS[form]()
     if branch is not None:
         formalism.branch = dict(branch)
-    return formalism.derive(dyn, list(rows), independent)
+    eom = formalism.derive(dyn, list(rows), independent)
+    if free_flight:   # said, never silent: the contacts need their states (nonideal.derive)
+        names = ", ".join(f"'{c.name}'" for c in model.contacts)
+        note = (f"the contacts {names} are not in these equations (no normal force, no friction: "
+                "free flight); nonideal.derive puts them in their states at t0, as "
+                "'nonideal derive' does")
+        eom = replace(eom, notes=(note,) + tuple(eom.notes))
+    return eom

@@ -6,7 +6,7 @@ accelerations of the independent coordinates (symbols named like their ``q''``).
 acceleration energy ``S`` of the kernel (genuine ``sum m a^2/2 + ...`` from the bodies, or
 from Appell's identity ``dS/dq'' = d/dt dT/dq' - dT/dq`` for a kinetic energy given as an
 expression) becomes, after this substitution, ``S'(p')`` -- the acceleration energy "composed
-with the constraints" of seed 000 -- and the equations are
+with the constraints" of Manglieva & Beknazarov 2022 -- and the equations are
 
     dS'/dp'_j = Pi_j + sum_k B_jk mu_k,          Pi = V^T Q,
 

@@ -25,7 +25,7 @@ operator of ``T``): Maggi's equation, i.e. the general equation of dynamics (1.6
 dependent variations eliminated.  The ``W_bj`` (Voronets' terms) vanish identically when the
 constraints are integrable (holonomic, scleronomic or rheonomic); they are then dropped (tested
 numerically at generic points) and the equations are exactly (1.64), with ``A_a0`` added for
-rheonomic constraints.  Seed 000 prints (1.61) without ``A_a0`` (scleronomic only), refers to
+rheonomic constraints.  Manglieva & Beknazarov 2022 print (1.61) without ``A_a0`` (scleronomic only), refers to
 (1.43) for the constraints (1.58) and writes the dependent velocities as ``x_q``; the
 equations here are derived, not copied.
 
