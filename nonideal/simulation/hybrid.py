@@ -24,7 +24,6 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
-from scipy.optimize import brentq
 
 from ..numeric.consistency import complete_state, project_state
 from ..errors import IntegrationFailed, MechanicsError, ModelError, PainleveParadox
@@ -33,10 +32,12 @@ from ..modeling.model import Model
 from ..modes.system import Motion
 from ..modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
 from ..modes.solver import ModeSolver
-from ..modes.diagnosis import weakest_reactions
 from ..numeric.kernel import SingularMatrix, kernel_of, max_abs, parameter_vector
 from ..modes.switching import effective_compliance, impact, select_mode, validate_state
+from .guards import Step, event_hits
+from .singular import Regularity, servo_stall
 from .trajectory import Sample, Trajectory
+from .zeno import Accumulation, ImpactSeries
 
 __all__ = ["simulate", "Simulation"]
 
@@ -278,6 +279,21 @@ class Simulation:
         record["mode"] = new.label()
         return y, new, record
 
+    def _accumulate(self, limit: Accumulation, y: np.ndarray, mode: Mode, ev: Event):
+        """Jump over the rest of a geometric series of impacts (:mod:`nonideal.zeno`) to its
+        limit: the impact law applied at the extrapolated state, the mode selected there; the
+        energy of the skipped flights and impacts is counted in the impact work."""
+        n = self.n
+        after = y.copy()
+        after[:n], after[n:2 * n] = limit.q, limit.qd
+        if self.track:
+            after[2 * n + 4] += (self._energy(limit.t, limit.q, limit.qd)
+                                 - self._energy(limit.last, y[:n], y[n:2 * n]))
+        after, new, record = self._switch(limit.t, after, mode, ev)
+        record.update(type="zeno", impacts=limit.impacts, ratio=limit.ratio,
+                      last_impact=limit.last, mode=new.label())
+        return after, new, record
+
     def _project(self, mode: Mode, t, q, qd):
         """Project onto the constraint rows of *mode* (constraints, closed gaps, stick rows)."""
         rows = self.solver.rows(mode)
@@ -436,6 +452,8 @@ class Simulation:
         residual_max = {"position": 0.0, "velocity": 0.0}
         Solver = SOLVERS[self.method]
         solver = self.solver
+        series = ImpactSeries()
+        regularity = Regularity(self.kernel)
         changes = solver.charts.changes if solver.charts is not None else 0
         while t < t_end:
             fun = self.rhs(mode)
@@ -451,6 +469,8 @@ class Simulation:
             solver.set_references(mode, motion)
             ode = Solver(fun, t, y, t_end, **kwargs)
             g_prev = [ev.value(motion) for ev in events]
+            watched = regularity.rows(solver.rows(mode))
+            regularity.start(motion, watched)
             tols = [self._tolerance(ev, motion) for ev in events]
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
             restart = False
@@ -475,32 +495,18 @@ class Simulation:
                 # the integrator's last evaluation was at (t_new, ode.y): the motion reuses it
                 motion = Motion(solver, mode, t_new, ode.y)
                 g_new = [ev.value(motion) for ev in events]
-                hits = []
-                dense = None
-                for k, ev in enumerate(events):
-                    if armed[k] and g_prev[k] > 0 >= g_new[k]:
-                        shift = 0.0
-                    elif not armed[k] and g_new[k] < -tols[k]:
-                        shift = tols[k] / 2
-                    else:
-                        continue
-                    dense = dense or ode.dense_output()
-
-                    def g(s, ev=ev, shift=shift):
-                        return ev.value(Motion(solver, mode, s, dense(s))) + shift
-                    a, b = t_old, t_new
-                    if g(a) <= 0:
-                        te = a
-                    else:
-                        te = brentq(g, a, b, xtol=1e-15 * max(1.0, abs(b)), rtol=8.9e-16, maxiter=200)
-                    hits.append((te, k))
+                step = Step(solver, mode, ode, motion)
+                hits = event_hits(step, events, armed, tols, g_prev, g_new)
+                singular = regularity.crossing(step, watched) if watched else None
+                if singular is not None and (not hits or singular <= min(hits)[0]):
+                    regularity.stop(self.model, step.motion(singular), watched)
                 if hits:
                     te, k = min(hits)
-                    ye = dense(te)
+                    ye = step.state(te)
                     if times is None:
                         emit(te, ye, mode)  # the state at the event, before the switch
                     else:
-                        next_time = self._sample_dense(dense, t_old, te, times, next_time, mode, emit)
+                        next_time = self._sample_dense(step.dense, t_old, te, times, next_time, mode, emit)
                     # stop on the kind the event watches, or on what the switch would do
                     switched = None if stop_on and events[k].kind in stop_on else \
                         self._switch(te, ye, mode, events[k])
@@ -517,6 +523,16 @@ class Simulation:
                         break
                     y, new_mode, record = switched
                     events_log.append(record)
+                    limit = series.add(events[k].name, new_mode.label(), te, ye[:n], ye[n:2 * n]) \
+                        if isinstance(events[k], (Touch, ContactTouch)) else None
+                    if limit is not None and limit.t < t_end:
+                        y, new_mode, record = self._accumulate(limit, y, mode, events[k])
+                        events_log.append(record)
+                        series.reset()
+                        te = limit.t
+                        while times is not None and next_time < times.size and times[next_time] < te:
+                            emit(times[next_time], y, new_mode)  # within the rest of the series
+                            next_time += 1
                     if len(events_log) > self.max_events:
                         raise IntegrationFailed(te, mode.label(), f"more than {self.max_events} mode "
                                                 "switches (chattering or Zeno behaviour)",
@@ -592,7 +608,7 @@ class Simulation:
         if reason:
             raise IntegrationFailed(ode.t, mode.label(), reason,
                                     None if self.model.source == "<api>" else self.model.source)
-        self._explain_servo(ode, mode)
+        servo_stall(self.model, self.solver, ode.t, ode.y, mode)
         for name, cs in mode.contacts:
             if cs.state != SLIDE:
                 continue
@@ -606,35 +622,6 @@ class Simulation:
                     f"Painleve paradox at contact '{name}': the integration stalled while the "
                     f"effective normal compliance b = {b:.3g} of the sliding contact vanished -- the "
                     "normal force grows without bound (dynamic jamming)", ode.t, state)
-
-    def _explain_servo(self, ode, mode: Mode) -> None:
-        """A servo- or quasi-ideal constraint whose reaction stops realizing it (``G M^-1 B``
-        singular: the control direction turns orthogonal, in the metric of M, to the program's
-        gradient, and the control force grows without bound) stalls the integration: say so,
-        naming the constraints (exit code 3)."""
-        kernel, n = self.kernel, self.n
-        rows = self.solver.rows(mode)
-        if not any(kernel.rows[i].reaction_kind != "ideal" for i in rows):
-            return
-        q, qd = ode.y[:n], ode.y[n:2 * n]
-        out = kernel.dynamics(self.solver.input(ode.t, q, qd))
-        M, G, B = (np.asarray(out[k], dtype=float) for k in ("M", "G", "B"))
-        try:
-            relative, w = weakest_reactions(M, G[rows], B[:, rows])
-        except np.linalg.LinAlgError:  # pragma: no cover - M singular is diagnosed elsewhere
-            return
-        if relative > 1e-6:
-            return
-        involved = [kernel.rows[i].name for k, i in enumerate(rows)
-                    if abs(w[k]) > 1e-3 * np.max(np.abs(w)) and kernel.rows[i].reaction_kind != "ideal"]
-        state = dict(zip(self.model.coordinates, q))
-        state.update({c + "'": float(v) for c, v in zip(self.model.coordinates, qd)})
-        raise MechanicsError(
-            f"the servo/quasi-ideal constraint(s) {', '.join(repr(x) for x in involved)} stop being "
-            f"realizable at t = {ode.t:.10g}: G M^-1 B is singular there (smallest singular value "
-            f"{relative:.2g} of its scale) -- the control direction has turned orthogonal, in the "
-            "metric of M, to the program's gradient, and the control force needed grows without "
-            "bound; the programmed motion cannot be continued with this control", ode.t, state)
 
     @staticmethod
     def _residuals(motion: Motion, mode: Mode, drift):
