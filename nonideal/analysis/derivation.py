@@ -6,8 +6,9 @@ takes everything explicitly; this is the entry point of the public API and the c
 from __future__ import annotations
 
 from ..equations.eom import EquationsOfMotion
-from ..equations.formalisms import derive as derive_symbolic
+from ..equations.formalisms import FORMS, derive as derive_symbolic
 from ..equations.dynamics import ConstraintRow
+from ..modeling.arguments import require_form, require_model
 from ..modeling.model import Model
 from ..numeric.consistency import initial_branch
 
@@ -27,6 +28,8 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
     >>> derive(gallery.load("chaplygin-sleigh"), "maggi").unknowns
     ("x''", "theta''")
     """
+    require_model(model, "derive")
+    require_form(form, "derive", FORMS)
     if branch is None and form == "lagrange2":
         branch = initial_branch(model)
     return derive_symbolic(model, form, rows=rows, independent=independent, branch=branch)

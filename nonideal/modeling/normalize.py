@@ -4,7 +4,6 @@ them all).  Called once, by ``Model.__post_init__``."""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -13,6 +12,7 @@ import sympy as sp
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
 from ..errors import ExpressionError, did_you_mean
+from .expressions import float_value
 from .symbols import is_identifier
 
 from .declarations import CONSTRAINT_TYPES, METHODS, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
@@ -489,9 +489,10 @@ class Normalizer:
             if e.free_symbols - set(names.values()):
                 self.problems.append(f"{where}: initial values may use parameters only")
                 continue
-            val = e.xreplace(values)
-            if not val.is_real or not math.isfinite(float(val)):
-                self.problems.append(f"{where}: value is not a finite real number")
+            try:
+                float_value(e, where, {s.name: float(v) for s, v in values.items()})
+            except ExpressionError as exc:
+                self.problems.extend(exc.problems)
                 continue
             out[key] = e
         self.set("initial", out)

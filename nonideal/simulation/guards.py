@@ -76,7 +76,6 @@ class StepScan:
             inner = [a + h * i for i in range(1, PROBES + 1)]
             self._s = np.array([a, a + NEAR_END * h] + inner + [b - NEAR_END * h, b])
         return self._s
-        self.ends = ends
 
     def _samples(self, k: int) -> list[float]:
         ga, gb = self.ends[k]
@@ -94,7 +93,6 @@ class StepScan:
             return (self._root(k, self.a, self.b) if ga > 0 >= gb else None), True
         s = self.s
         g = self._samples(k)
-        h = self.b - self.a
         start = 0
         if not armed:
             above = [i for i, v in enumerate(g) if v > tol]

@@ -26,7 +26,7 @@ import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 
 from ..numeric.consistency import complete_state, project_state
-from ..errors import IntegrationFailed, MechanicsError, ModelError, PainleveParadox
+from ..errors import IntegrationFailed, ModelError, PainleveParadox
 from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, transition
 from ..modeling.model import Model
 from ..modes.system import Motion
@@ -34,8 +34,9 @@ from ..modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
 from ..modes.solver import ModeSolver
 from ..numeric.kernel import SingularMatrix, kernel_of, max_abs, parameter_vector
 from ..modes.switching import effective_compliance, impact, select_mode, validate_state
+from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times
 from .guards import Step, event_hits
-from .singular import Regularity, servo_stall
+from .singular import Regularity, mass_stall, servo_stall
 from .trajectory import Sample, Trajectory
 from .zeno import Accumulation, ImpactSeries
 
@@ -85,7 +86,8 @@ class Simulation:
                  parameters: Mapping[str, float] | None = None, rtol: float | None = None,
                  atol: float | None = None, method: str | None = None,
                  max_step: float | None = None, independent=None, max_events: int = 10_000,
-                 detect_jam: bool = True, specialize: bool = True):
+                 detect_jam: bool = True, specialize: bool = True,
+                 max_samples: int | None = MAX_SAMPLES):
         self.model = model
         self.kernel = kernel_of(model)
         self.params = parameter_vector(model, parameters)
@@ -98,6 +100,7 @@ class Simulation:
             raise ModelError(f"--method: unknown integrator '{self.method}'; choose one of {', '.join(SOLVERS)}")
         self.max_step = max_step if max_step is not None else (sim.max_step or np.inf)
         self.max_events = max_events
+        self.max_samples = max_samples
         self.detect_jam = detect_jam
         k = self.kernel
         self.contacts = bool(self.solver.ck)
@@ -416,6 +419,7 @@ class Simulation:
                                  f"(got {', '.join(f'{v:g}' for v in times)})")
             if times.size and times[0] < t0:
                 raise ModelError(f"--times: {times[0]} is before t0 = {t0}")
+            check_times(times)
         if t_end is None:
             if times is not None and times.size:
                 t_end = float(times[-1])
@@ -433,12 +437,13 @@ class Simulation:
         q0, qd0 = self._project(mode, t0, q0, qd0)
         y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))
         atol = self._work_tolerances() if self.track else self.atol
-        samples: list[Sample] = []
+        samples = SampleBuffer(self.max_samples)  # bounded: thinned past max_samples steps
+        budget = StepBudget(t0, t_end, None if model.source == "<api>" else model.source)
         events_log: list[dict] = []
         next_time = 0
 
-        def emit(t, yy, md, motion=None):
-            samples.append(Sample(float(t), np.array(yy, dtype=float), md, motion))
+        def emit(t, yy, md, motion=None, step=False):
+            samples.add(Sample(float(t), np.array(yy, dtype=float), md, motion), step)
 
         # the state at the start of a phase is sampled at the top of the loop, with its motion
         pending = times is None or bool(times.size and abs(times[0] - t0) <= 1e-14 * max(1, abs(t0)))
@@ -484,11 +489,12 @@ class Simulation:
                 if solver.charts is not None:  # Lagrange II: change charts at accepted states
                     solver.charts.settle(mode, t_new, ode.y[:n], ode.y[n:2 * n])
                 h = t_new - t_old
-                tiny = tiny + 1 if h < 1e-9 * max(t_end - t0, 1e-300) else 0
+                budget.step(t_new)  # refuses a run that cannot finish
+                tiny = tiny + 1 if h < 1e-9 * min(t_end - t0, 1.0) + 4e-16 * abs(t_new) else 0
                 if tiny > 2000:
                     self._explain_failure(ode, mode)
                     raise IntegrationFailed(
-                        t_new, mode.label(), "the step size collapsed below 1e-9 of the time span for "
+                        t_new, mode.label(), "the step size collapsed below 1e-9 of the time span (or of 1) for "
                         "2000 steps: the right-hand side is not smooth here (a nonlinear constraint at "
                         "a singular point, or a friction law without a sticking mode at zero slip)",
                         None if model.source == "<api>" else model.source)
@@ -571,7 +577,7 @@ class Simulation:
                     restart = True
                     continue
                 if times is None:
-                    emit(t_new, ode.y, mode, motion)
+                    emit(t_new, ode.y, mode, motion, step=True)
                 else:
                     next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times, next_time,
                                                    mode, emit)
@@ -580,7 +586,7 @@ class Simulation:
                     break
             if stopped or (not restart and ode.status == "finished"):
                 break
-        if pending:  # a switch exactly at the end
+        if pending or samples and samples[-1].t < t:  # a switch at the end; the thinned last step
             emit(t, y, mode)
         if times is not None:
             while next_time < times.size and times[next_time] <= t + 1e-12 * max(1, abs(t)):
@@ -594,6 +600,7 @@ class Simulation:
             "atol": self.atol,
             "form": self.solver.form,
             "stabilization": "coordinate projection when residual > 1e-10 (relative)",
+            "output_stride": samples.stride,
         }
         if solver.charts is not None:
             diagnostics["chart_changes"] = solver.charts.changes - changes
@@ -608,6 +615,7 @@ class Simulation:
         if reason:
             raise IntegrationFailed(ode.t, mode.label(), reason,
                                     None if self.model.source == "<api>" else self.model.source)
+        mass_stall(self.model, self.solver, ode.t, ode.y, self.model.t0, np.concatenate(self.initial_state()))
         servo_stall(self.model, self.solver, ode.t, ode.y, mode)
         for name, cs in mode.contacts:
             if cs.state != SLIDE:
@@ -667,7 +675,9 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
         Formalism used to evaluate the accelerations.
     **options
         ``parameters``, ``rtol``, ``atol``, ``method``, ``max_step``, ``independent``,
-        ``initial``, ``detect_jam``, ``specialize``.
+        ``initial``, ``detect_jam``, ``specialize``, ``max_samples`` (step samples kept, default
+        100000; beyond, the step output is thinned -- ``diagnostics["output_stride"]`` --
+        events and requested times are always kept; ``None`` keeps every step).
 
     Returns
     -------
@@ -681,12 +691,13 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
     [0.0, 1.0]
     """
     allowed = ("parameters", "rtol", "atol", "method", "max_step", "independent", "max_events",
-               "detect_jam", "specialize", "initial", "stop_on")
+               "detect_jam", "specialize", "initial", "stop_on", "max_samples")
     unknown = [k for k in options if k not in allowed]
     if unknown:
         from ..errors import did_you_mean
         raise ModelError([f"simulate: unknown option '{k}'{did_you_mean(k, allowed)}; allowed: "
                           + ", ".join(allowed) for k in unknown])
+    check_arguments(model, t_end, times, form, options)
     initial = options.pop("initial", None)
     stop_on = options.pop("stop_on", None)
     sim = Simulation(model, form=form, **options)

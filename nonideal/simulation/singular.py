@@ -31,11 +31,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import MechanicsError, SingularMotion
+from ..errors import MechanicsError, SingularMotion, SingularSystem
 from ..modes.diagnosis import weakest_reactions
 from .guards import StepScan
 
-__all__ = ["SINGULAR", "Regularity", "servo_stall"]
+__all__ = ["SINGULAR", "Regularity", "servo_stall", "mass_stall"]
 
 SINGULAR = 1e-6
 """Regularity below which the constraint rows are treated as singular."""
@@ -190,3 +190,30 @@ def servo_stall(model, solver, t: float, y: np.ndarray, mode) -> None:
         f"{relative:.2g} of its scale) -- the control direction has turned orthogonal, in the "
         "metric of M, to the program's gradient, and the control force needed grows without "
         "bound; the programmed motion cannot be continued with this control", t, state)
+
+
+def mass_stall(model, solver, t: float, y: np.ndarray, t0: float, y0: np.ndarray) -> None:
+    """A mass matrix that becomes singular along the motion (``(1 - t) x'^2/2`` at t = 1, or
+    ``cos(x)^2 x'^2/2`` at x = pi/2) stalls the integration: say so, with the smallest
+    eigenvalue relative to the mass matrix at the start *(t0, y0)* (exit code 2: the model's
+    kinetic energy is degenerate there).  Called when the integration stalls."""
+    n = solver.n
+
+    def eig(tt, yy):
+        M = np.asarray(solver.kernel.dynamics(solver.input(tt, yy[:n], yy[n:2 * n]))["M"], dtype=float)
+        return np.linalg.eigh((M + M.T) / 2)
+    w0, _ = eig(t0, y0)
+    w, v = eig(t, y)
+    scale = max(float(np.max(np.abs(w0))), 1e-300)
+    if w[0] > 1e-6 * scale:
+        return
+    vec = v[:, 0] / v[np.argmax(np.abs(v[:, 0])), 0]
+    combo = " + ".join(f"{a:.4g}*{c}'" for a, c in zip(vec, model.coordinates) if abs(a) > 1e-9)
+    state = ", ".join(f"{c} = {float(x):.10g}" for c, x in zip(model.coordinates, y[:n]))
+    raise SingularSystem(
+        f"the mass matrix becomes singular along the motion at t = {t:.10g} ({state}): its "
+        f"smallest eigenvalue fell to {w[0]:.3g} ({w[0] / scale:.2g} of its size at the start), "
+        f"so the velocity combination {combo} has no inertia there and the accelerations grow "
+        "without bound; the kinetic energy is degenerate at this state (check the factors in "
+        "front of the velocities), or end the run before it",
+        None if model.source == "<api>" else model.source)
