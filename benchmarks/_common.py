@@ -27,17 +27,13 @@ RESULTS = HERE / "results"
 
 
 def clear_caches() -> None:
-    """Clear SymPy's global cache (our symbolic kernels are cached per model object, and
-    every measurement uses a fresh model)."""
+    """Clear SymPy's global cache (what the library derives is cached on the model object
+    (``Model.cached``), and every measurement uses a fresh model)."""
     import gc
 
     from sympy.core.cache import clear_cache
 
     clear_cache()
-    for mod, name in (("nonideal.equations.dynamics", "_CACHE"), ("nonideal.numeric.kernel", "_KERNELS")):
-        cache = getattr(sys.modules.get(mod), name, None)
-        if isinstance(cache, dict):
-            cache.clear()
     gc.collect()
 
 

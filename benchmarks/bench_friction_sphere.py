@@ -232,12 +232,7 @@ def clear_library_caches() -> None:
     from sympy.core.cache import clear_cache
 
     clear_cache()
-    for mod, name in (("nonideal.equations.dynamics", "_CACHE"), ("nonideal.numeric.kernel", "_KERNELS"),
-                      ("nonideal.numeric.contact_kernel", "_CACHE"), ("nonideal.modes.system", "_SYSTEMS"),
-                      ("nonideal.simulation.hybrid", "_INITIAL"), ("nonideal.modes.switching", "_VALIDATED")):
-        cache = getattr(sys.modules.get(mod), name, None)
-        if isinstance(cache, dict):
-            cache.clear()
+    # the library's caches live on the model object (Model.cached): a fresh model starts empty
     gc.collect()
 
 

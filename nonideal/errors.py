@@ -27,6 +27,8 @@ __all__ = [
     "MechanicsError",
     "PainleveParadox",
     "IndeterminateSystem",
+    "NotAnEquilibrium",
+    "LinearizationUndefined",
     "did_you_mean",
 ]
 
@@ -223,3 +225,16 @@ class IndeterminateSystem(MechanicsError):
 class SingularMotion(MechanicsError):
     """Along the motion the active constraints became dependent, or one lost its gradient:
     the multipliers pass through a pole and the continuation is not determined."""
+
+
+class NotAnEquilibrium(ModelError):
+    """The state given for a stability analysis is not an equilibrium / steady motion and none
+    was found near it (the message gives the residual rates and the fix)."""
+
+
+class LinearizationUndefined(MechanicsError):
+    """The first approximation does not exist at the state: dependent (singular) constraint
+    rows, or accelerations the constraints leave undetermined."""
+
+    def __init__(self, explanation: str, **kw):
+        super().__init__("the linearization is undefined: " + explanation, **kw)

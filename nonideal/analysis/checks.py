@@ -14,10 +14,12 @@ from typing import Any
 
 from ..numeric.consistency import complete_state
 from ..modeling.model import Model
+from ..modeling.symbols import to_sp
 from ..modes.diagnosis import diagnose_state
 from ..modes.solver import ModeSolver
 from ..modes.switching import select_mode
 from ..numeric.kernel import kernel_of, parameter_vector
+from .statics import servo_equilibrium
 
 __all__ = ["CheckReport", "check_model"]
 
@@ -35,15 +37,19 @@ class CheckReport:
     initial: dict[str, float]
     initial_mode: str
     notes: list[str] = field(default_factory=list)
+    equilibrium: dict[str, Any] | None = None   # servo-constraints, initial state at rest
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        out = {
             "model": self.model, "source": self.source, "ok": True,
             "coordinates": self.coordinates, "parameters": self.parameters,
             "constraints": self.constraints, "contacts": self.contacts, "counts": self.counts,
             "determinacy": self.determinacy, "initial_state": self.initial,
             "initial_mode": self.initial_mode, "notes": self.notes,
         }
+        if self.equilibrium is not None:
+            out["servo_equilibrium"] = self.equilibrium
+        return out
 
     def as_text(self) -> str:
         c = self.counts
@@ -77,9 +83,12 @@ def check_model(model: Model) -> CheckReport:
     cons = []
     counts = dict(n_q=model.n_q, holonomic=0, nonholonomic=0, second_order=0, unilateral=0,
                   servo=0, contacts=len(model.contacts))
+    reached = kernel.dyn.servo_reach
     for c in model.constraints:
         cons.append({"name": c.name, "kind": c.kind, "order": c.order, "reaction": c.reaction_kind,
                      "unilateral": c.unilateral, "expr": str(c.expr)})
+        if c.name in reached:
+            cons[-1]["control_order"] = reached[c.name].order
         if c.unilateral:
             counts["unilateral"] += 1
         elif c.order == 0:
@@ -98,11 +107,21 @@ def check_model(model: Model) -> CheckReport:
         contacts.append({"name": ct.name, "gap": str(ct.gap), "slip": [str(s) for s in ct.slip],
                          "friction": law, "bilateral": ct.bilateral})
     servo = [c for c in model.constraints if c.reaction_kind != "ideal"]
+    several = [c for c in servo if c.controls is not None]
     if servo:
         r = len(servo)
+        j = r + sum(len(c.controls) - 1 for c in several)
         determinacy = (f"{r} servo/quasi-ideal constraint(s), each with its own control direction "
                        "(r = j): determinate if the control directions can realize the program "
                        "(checked at t0 below)")
+        if several:
+            determinacy = (
+                f"r = {r} program(s), j = {j} control direction(s): indeterminate (r < j; Béghin "
+                "1922), resolved by a stated rule: "
+                + "; ".join(f"'{c.name}': {len(c.controls)} directions, "
+                            + ("least cost u^T W u with the given cost W" if c.cost is not None
+                               else "least norm |u|")
+                            for c in several))
     else:
         determinacy = "all constraints ideal: the motion is determinate"
     given = model.numeric_initial()
@@ -122,5 +141,29 @@ def check_model(model: Model) -> CheckReport:
     completed = [k for k in initial if k not in given]
     if completed:
         notes.append("completed from the constraints: " + ", ".join(completed))
+    notes += servo_notes(kernel.dyn)
+    equilibrium = None
+    if any(c.reaction_kind == "servo" for c in model.constraints) and not any(qd):
+        found = servo_equilibrium(model, q)
+        notes.append(found.note())
+        equilibrium = found.to_dict()
     return CheckReport(model.name, model.source, list(model.coordinates), model.parameter_values,
-                       cons, contacts, counts, determinacy, initial, mode.label(), notes)
+                       cons, contacts, counts, determinacy, initial, mode.label(), notes, equilibrium)
+
+
+def servo_notes(dyn) -> list[str]:
+    """One line per servo-constraint whose control acts through the dynamics: the order of the
+    derivative in which the control appears and the condition of dynamics it keeps."""
+    out = []
+    for name, reach in dyn.servo_reach.items():
+        if reach.order <= 2:
+            continue
+        cond = reach.row.velocity if reach.row.velocity is not None else reach.row.position
+        out.append(
+            f"servo-constraint '{name}': the control reaches the program only through the dynamics; "
+            f"it appears in the time derivative of order {reach.order} of the coordinates (the "
+            f"program differentiated {reach.differentiated} time(s) beyond its acceleration level; "
+            "Yushkov 1999, ch. IV, the mixed problem); the motion keeps the condition of dynamics "
+            f"{to_sp(cond)} = 0 (Manglieva & Beknazarov 2022, (3.3)), which fixes part of the "
+            "initial state")
+    return out

@@ -10,6 +10,7 @@ from ..equations.formalisms import FORMS, derive as derive_symbolic
 from ..equations.dynamics import ConstraintRow
 from ..modeling.arguments import require_form, require_model
 from ..modeling.model import Model
+from ..modes.routes import route_for
 from ..numeric.consistency import initial_branch
 
 __all__ = ["derive"]
@@ -30,6 +31,6 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
     """
     require_model(model, "derive")
     require_form(form, "derive", FORMS)
-    if branch is None and form == "lagrange2":
+    if branch is None and route_for(form).charts:
         branch = initial_branch(model)
     return derive_symbolic(model, form, rows=rows, independent=independent, branch=branch)

@@ -97,7 +97,11 @@ class Evaluation:
             else:
                 lines.append(f"  lambda_{name} = {value: .10g}")
             lines.append(f"    reaction (generalized) = {_fmt(r['generalized'])}")
-            if self.split_available:
+            if self.split_available and "control_part" in r:
+                lines.append(f"    ideal part             = {_fmt(r['ideal_part'])}")
+                lines.append(f"    control part           = {_fmt(r['control_part'])}  "
+                             f"({r['kind']}: the part that does work)")
+            elif self.split_available:
                 lines.append(f"    constraint part        = {_fmt(r['constraint_part'])}")
                 lines.append(f"    friction part          = {_fmt(r['friction_part'])}")
         if self.split_available and len(self.reactions) > 1 and any(
@@ -216,14 +220,18 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     -------
     Evaluation
         ``reactions[name]`` holds, for every constraint and contact, its physical generalized
-        reaction ``R_j``, the constraint part ``G_j^T lambda_j`` of Painleve's split (which does
+        reaction ``R_j`` (``kind``: ``"ideal"``, ``"servo"``, ``"quasi-ideal"`` or
+        ``"contact"``), the constraint part ``G_j^T lambda_j`` of Painleve's split (which does
         not depend on friction) and the friction part ``R_j - G_j^T lambda_j``, what friction
         adds to that row's reaction: at the contact its friction force and the change of its
         normal force, at an ideal constraint the change of its reaction that friction elsewhere
         causes (seed 000, (1.14)-(1.17); zero in a frictionless system).  Each row's parts add
         up to its reaction; summed over all rows the friction parts are ``M V mu``, the
         friction force of the seed, which accelerates along possible velocities only (a single
-        row's friction part need not).  Where the
+        row's friction part need not).  For a servo or quasi-ideal constraint the two parts are
+        also given as ``ideal_part`` and ``control_part``: the rest of its reaction is the
+        control, which does work (Briskin et al. 2021); ``friction_part`` keeps the same
+        numbers under the name every row has.  Where the
         reactions are statically indeterminate (dependent rows: a ladder sticking at a rough
         wall and floor), the multipliers and contact forces are the admissible distribution
         with the widest margins, the least-norm one among several (:mod:`nonideal.indeterminate`),
@@ -282,7 +290,13 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
             "constraint_part": [float(v) for v in constraint_part],
             "friction_part": [float(v) for v in friction_part],
             "active": bool(active),
+            "kind": row.reaction_kind,
         }
+        if row.reaction_kind != "ideal":
+            # a servo or quasi-ideal reaction: its part that does work on the possible
+            # displacements is the control, not friction (Briskin et al. 2021, (1.1)-(2.3))
+            reactions[name]["ideal_part"] = reactions[name]["constraint_part"]
+            reactions[name]["control_part"] = reactions[name]["friction_part"]
     ck = solver.ck
     for c, (name, cs) in enumerate(mode.contacts):
         cf = sol.contacts[name]
@@ -303,6 +317,7 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
             "constraint_part": [float(v) for v in constraint_part],
             "friction_part": [float(v) for v in friction_part],
             "active": cs.state != "separated",
+            "kind": "contact",
         }
         multipliers[name] = float(cf.N)
         info = cf.to_dict()

@@ -22,7 +22,8 @@ from ..errors import MechanicsError, ModelError, NonidealError
 __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: the commands, each a module of this package
-COMMANDS = ("check", "derive", "evaluate", "simulate", "realizability", "friction_law", "examples")
+COMMANDS = ("check", "derive", "evaluate", "simulate", "realizability", "friction_law", "stability",
+            "sweep", "examples")
 
 
 def version() -> str:

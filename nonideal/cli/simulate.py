@@ -78,11 +78,15 @@ def run(args) -> int:
         from ..plotting import plot_trajectory
 
         outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(fine, tmp))
+    heat = _actuator_heat(model, traj, args.form, options)
+    payload = traj.to_dict()
+    if heat is not None:
+        payload["actuator_heat"] = heat
     stdout = None
     if args.json == "-":
-        stdout = json.dumps(traj.to_dict(), indent=1, allow_nan=True)
+        stdout = json.dumps(payload, indent=1, allow_nan=True)
     elif args.json:
-        emit_json(args, traj.to_dict(), outputs)
+        emit_json(args, payload, outputs)
     outputs.commit()
     if stdout is not None:
         print(stdout)
@@ -100,6 +104,26 @@ def run(args) -> int:
             last = traj.events[-1]
             print(f"  ... {len(traj.events) - len(shown)} more events, the last at t = {last['t']:.12g} "
                   f"-> mode [{last.get('mode', '')}] (all of them: --json or --csv)")
+        if heat is not None:
+            print(f"  work of the reactions A = {traj.energy['reaction_work'][-1]:.12g}, heat lost in "
+                  f"the drives W = {heat['total']:.12g} (Briskin et al. 2021, (3.7))")
         print(f"  constraint residual max = {d['constraint_residual_max']:.3e}, "
               f"energy balance (relative) = {d['energy_balance_relative']:.3e}")
     return 0
+
+
+def _actuator_heat(model, traj, form, options) -> dict | None:
+    """The drives' heat ``W`` up to the end of *traj* (constraints with ``losses``), integrated
+    on a dense uniform sampling of the same motion; None without losses."""
+    if not any(c.losses is not None for c in model.constraints):
+        return None
+    import numpy as np
+
+    from ..analysis.quasi_ideal import HEAT_SAMPLES, actuator_heat
+    from ..simulation.hybrid import simulate
+
+    dense = simulate(model, t_end=traj.t[-1], times=np.linspace(traj.t[0], traj.t[-1], HEAT_SAMPLES),
+                     form=form, **options)
+    h = actuator_heat(model, dense)
+    return {"total": float(h["total"][-1]),
+            "by_constraint": {c: float(v[-1]) for c, v in h["heat"].items()}}

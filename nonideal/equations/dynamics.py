@@ -27,6 +27,7 @@ from functools import cached_property
 import symengine as se
 
 from ..modeling.bodies import Force, PlanarBody, RigidBody, Torque
+from .servo import directions_dependent, least_cost_direction, reach, root_row
 from ..errors import ModelError, SingularSystem
 from ..modeling.model import Constraint, Model
 from ..modeling.symbols import to_se
@@ -319,8 +320,94 @@ class Dynamics:
     def _rows(self) -> dict[str, ConstraintRow]:
         out = {}
         for c in self.model.constraints:
-            out[c.name] = self._row(c)
+            if c.root is None:
+                out[c.name] = self._row(c)
+        for name, (row, _) in self.control_rows.items():
+            out[name] = row
+        for name in self.servo_reach:
+            out[name] = self.servo_reach[name].row
+        for name, (row, _, _) in self.root_rows.items():
+            out[name] = row
         return out
+
+    @cached_property
+    def control_rows(self) -> dict:
+        """``{name: (row, coefficients)}`` for every servo-constraint with several control
+        directions (Béghin's r < j): its row realized by the least-cost combination of them
+        (``least_cost_direction``) and ``u_k = coefficients[k] * multiplier``."""
+        out = {}
+        for c in self.model.constraints:
+            if c.controls is None:
+                continue
+            base = self._row(c)
+            others = [self._row(o) for o in self.model.constraints
+                      if o.name != c.name and o.root is None and o.controls is None and not o.unilateral]
+            cols = [[to_se(x) for x in col] for col in c.controls]
+            cost = [[to_se(x) for x in r] for r in c.cost] if c.cost is not None else None
+            B, coef = least_cost_direction(self, base, others, cols, cost)
+            out[c.name] = (ConstraintRow(c.name, base.G, base.gamma, B, base.position, base.velocity,
+                                         base.order, base.unilateral, "servo"), coef)
+        return out
+
+    @cached_property
+    def root_rows(self) -> dict:
+        """``{name: (row, discriminant, multiplier)}`` for every second-order constraint
+        nonlinear in the accelerations: its row at the root chosen by its ``root`` rule, the
+        discriminant that must stay positive, and the multiplier as a function of the state."""
+        out = {}
+        for c in self.model.constraints:
+            if c.root is None:
+                continue
+            others = [self._row(o) for o in self.model.constraints
+                      if o.name != c.name and o.root is None and not o.unilateral]
+            make = lambda name, G, gamma, B: ConstraintRow(name, G, gamma, B, None, None, 2, False, "servo")
+            out[c.name] = root_row(self, c.name, to_se(c.expr), [to_se(r) for r in c.reaction],
+                                   c.root, others, make)
+        return out
+
+    @cached_property
+    def servo_reach(self) -> dict:
+        """``{name: ServoReach}`` for every servo-constraint: the order of the derivative of the
+        program in which its control appears, the conditions of dynamics that hold along the
+        motion, and the row that stands for the program in the equations of motion (the program
+        itself when its control appears at acceleration level)."""
+        out = {}
+        if self.model.contacts or not any(c.reaction is not None and c.root is None
+                                          for c in self.model.constraints):
+            # (a contact's normal force and friction can carry the control to the program in
+            # ways this analysis of the bilateral rows does not see: keep the programs as given)
+            return out
+        base = {c.name: self._row(c) for c in self.model.constraints if c.root is None}
+        base.update({name: row for name, (row, _) in self.control_rows.items()})
+        single = [base[c.name] for c in self.model.constraints
+                  if c.reaction is not None and c.root is None]
+        if directions_dependent(self, single):
+            return out          # r > j: Beghin's count, reported by the diagnosis of the system
+        for c in self.model.constraints:
+            if c.reaction is None or c.root is not None:
+                continue
+            others = [r for name, r in base.items() if name != c.name and not r.unilateral]
+            out[c.name] = reach(self, base[c.name], others, self._condition_row)
+        return out
+
+    def servo_conditions(self) -> list:
+        """The conditions that hold along the motion besides the rows (programs whose control
+        acts through the dynamics, and their intermediate conditions of dynamics)."""
+        return [k for r in self.servo_reach.values() for k in r.conditions]
+
+    def _condition_row(self, name: str, expr, order: int, B) -> ConstraintRow:
+        """A servo row for a condition of dynamics ``expr(q, q', t) = 0`` (order 1) or
+        ``expr(q, t) = 0`` (order 0) realized by the control direction ``B``."""
+        if order == 0:
+            G = [se.diff(expr, qk) for qk in self.q]
+            vel = self.dt(expr, with_acceleration=False)
+            gamma = self.dt(vel, with_acceleration=False)
+            position = expr
+        else:
+            G = [se.diff(expr, v) for v in self.qd]
+            gamma = self.dt(expr, with_acceleration=False)
+            vel, position = expr, None
+        return ConstraintRow(name, tuple(G), gamma, tuple(B), position, vel, order, False, "servo")
 
     def _row(self, c: Constraint) -> ConstraintRow:
         expr = to_se(c.expr)
@@ -428,9 +515,6 @@ class ContactData:
     restitution: float
 
 
-_CACHE: dict[int, tuple[Model, Dynamics]] = {}
-
-
 def _source(model: Model) -> str | None:
     """The model file to name in an error (None for a model built in Python)."""
     return None if model.source == "<api>" else model.source
@@ -438,15 +522,7 @@ def _source(model: Model) -> str | None:
 
 def dynamics_of(model: Model) -> Dynamics:
     """The (cached) symbolic kernel of *model*.  Models are immutable, so caching is safe."""
-    key = id(model)
-    hit = _CACHE.get(key)
-    if hit is not None and hit[0] is model:
-        return hit[1]
-    dyn = Dynamics(model)
-    if len(_CACHE) > 64:
-        _CACHE.clear()
-    _CACHE[key] = (model, dyn)
-    return dyn
+    return model.cached("dynamics", lambda: Dynamics(model))
 
 
 def count_ops(exprs) -> int:

@@ -16,6 +16,7 @@ __all__ = ["Parameter", "Constraint", "SimulationSettings", "RESERVED_NAMES", "C
 RESERVED_NAMES = frozenset({"t"} | set(FUNCTIONS) | set(CONSTANTS))
 
 CONSTRAINT_TYPES = ("holonomic", "nonholonomic", "servo")
+ROOT_RULES = ("largest", "smallest")
 METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 
 
@@ -55,6 +56,18 @@ class Constraint:
         derivative present).
     transform : n_q x n_q nested sequence, optional
         Quasi-ideal constraint: the reaction ``R`` satisfies ``A R = (df/dq)^T lambda``.
+    losses : sequence of n_q expressions in the parameters, optional
+        Heat loss coefficients ``mu_j`` of the drives that produce the generalized reaction
+        components ``R_j``: they lose ``sum_j mu_j R_j^2`` per unit time (Briskin et al.
+        2021, (3.7); :func:`nonideal.analysis.quasi_ideal.actuator_heat`).
+    root : {"largest", "smallest"}, optional
+        A second-order constraint nonlinear in the accelerations (with ``reaction``): which
+        root of its multiplier (default ``"largest"``).
+    controls : sequence of j direction vectors (n_q expressions each), optional
+        Several control directions for one program (Béghin 1922: r < j, indeterminate); the
+        controls are the least-cost ones, ``min u^T cost u`` (least norm by default).
+    cost : j x j nested sequence of numbers / parameter expressions, optional
+        The symmetric positive-definite quadratic cost of the controls.
     """
 
     name: str
@@ -65,6 +78,10 @@ class Constraint:
     transform: tuple[tuple[Any, ...], ...] | None = None
     restitution: float = 0.0
     order: int = -1  # filled by the Model: 0 holonomic, 1 first order, 2 second order
+    losses: tuple[Any, ...] | None = None
+    root: str | None = None  # "largest" | "smallest": a constraint nonlinear in q''
+    controls: tuple[tuple[Any, ...], ...] | None = None  # j control directions (Beghin: r < j)
+    cost: tuple[tuple[Any, ...], ...] | None = None      # j x j quadratic cost of the controls
 
     @classmethod
     def holonomic(cls, name: str, expr: Any, unilateral: bool = False, **kw) -> "Constraint":
@@ -81,7 +98,7 @@ class Constraint:
     @property
     def reaction_kind(self) -> str:
         """``"ideal"``, ``"servo"`` or ``"quasi-ideal"``."""
-        if self.reaction is not None:
+        if self.reaction is not None or self.controls is not None:
             return "servo"
         if self.transform is not None:
             return "quasi-ideal"

@@ -27,7 +27,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -106,6 +106,28 @@ class Model:
         Normalizer(self, problems).run()
         if problems:
             raise ModelError(problems, None if self.source == "<api>" else self.source)
+
+    def cached(self, key, build: Callable[[], Any]) -> Any:
+        """``build()``, once per model and *key*: the one cache of what later stages derive
+        from a model (its dynamics, compiled kernels, mode systems, compiled forms, states
+        already checked).  A model is immutable, so what is derived from it stays valid; it
+        lives as long as the model, and a changed model (:meth:`replace`) starts empty."""
+        cache = self.__dict__.setdefault("_derived", {})
+        try:
+            return cache[key]
+        except KeyError:
+            value = cache[key] = build()
+            return value
+
+    def clear_cache(self) -> None:
+        """Forget what was derived from this model (benchmarks of cold runs)."""
+        self.__dict__.pop("_derived", None)
+
+    def __getstate__(self):
+        # compiled callables are not pickled: a model sent to another process derives anew
+        state = dict(self.__dict__)
+        state.pop("_derived", None)
+        return state
 
     def replace(self, **changes) -> "Model":
         """A new model with some fields changed (the model itself never changes)."""

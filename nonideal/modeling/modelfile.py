@@ -54,7 +54,7 @@ SECTION_KEYS = {
     "forms": {"independent"},
 }
 CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral", "restitution",
-                   "description"}
+                   "losses", "root", "cost", "description"}
 CONTACT_KEYS = {"name", "gap", "slip", "mu", "mu_static", "friction", "eps", "restitution",
                 "bilateral", "description"}
 BODY_KEYS = {
@@ -402,17 +402,21 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
             ok = False
         unilateral = check.boolean(c, "unilateral", where)
         restitution = check.number(c, "restitution", where, 0.0, 0.0, 1.0)
-        if "reaction" in c:
-            ok &= check.expr_list(c, "reaction", where, (n_q,) if n_q else None)
+        if "reaction" in c:  # a direction, or a list of directions (several controls, r < j)
+            cols = c["reaction"] if isinstance(c["reaction"], list) else []
+            for col in [r for r in cols if isinstance(r, list)] or [c["reaction"]]:
+                ok &= check.expr_list({"reaction": col}, "reaction", where, (n_q,) if n_q else None)
         if "transform" in c:
             ok &= check.matrix(c, "transform", where, n_q)
+        ok &= check.expr_list(c, "losses", where, (n_q,) if n_q else None) if "losses" in c else True
         if not ok:
             continue
         constraints.append(_ConstraintSpec(
             name=c["name"], expr=c["expr"], kind=kind, unilateral=unilateral,
             reaction=tuple(c["reaction"]) if "reaction" in c else None,
             transform=tuple(tuple(r) for r in c["transform"]) if "transform" in c else None,
-            restitution=float(restitution)))
+            restitution=float(restitution), losses=tuple(c["losses"]) if "losses" in c else None,
+            root=c.get("root"), cost=c.get("cost")))
 
     contacts = []
     for k, c in enumerate(_array_of_tables(data, "contacts", problems)):
@@ -598,7 +602,8 @@ class _ConstraintSpec(dict):
 
     def build(self) -> Constraint:
         return Constraint(self["name"], self["expr"], self["kind"], self["unilateral"],
-                          self["reaction"], self["transform"], restitution=self["restitution"])
+                          self["reaction"], self["transform"], restitution=self["restitution"],
+                          losses=self["losses"], root=self["root"], cost=self["cost"])
 
 
 def _array_of_tables(data: dict, key: str, problems: list[str]) -> list[dict]:

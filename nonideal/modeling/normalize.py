@@ -5,18 +5,19 @@ them all).  Called once, by ``Model.__post_init__``."""
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 from typing import Any
 
+import numpy as np
 import sympy as sp
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
 from ..errors import ExpressionError, did_you_mean
-from .expressions import float_value
 from .symbols import is_identifier
 
-from .declarations import CONSTRAINT_TYPES, METHODS, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
-from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr
+from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
+from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
 
 __all__ = ["Normalizer"]
 
@@ -284,6 +285,9 @@ class Normalizer:
             if c.name in names:
                 self.problems.append(f"{where}: duplicate constraint name")
             names.add(c.name)
+            if isinstance(c.reaction, (list, tuple)) and c.reaction \
+                    and all(isinstance(r, (list, tuple)) for r in c.reaction):   # reaction = [[..], [..]]
+                c = replace(c, reaction=None, controls=tuple(map(tuple, c.reaction)))
             if c.kind not in ("auto",) + CONSTRAINT_TYPES:
                 self.problems.append(
                     f"{where}: type '{c.kind}' unknown{did_you_mean(c.kind, CONSTRAINT_TYPES)}; "
@@ -306,17 +310,30 @@ class Normalizer:
                     f"{where}: declared nonholonomic but contains no velocities; declare it holonomic"
                 )
                 continue
-            if kind == "servo" and c.reaction is None:
+            if kind == "servo" and c.reaction is None and c.controls is None:
                 self.problems.append(
                     f"{where}: a servo-constraint needs 'reaction' (the generalized direction "
                     "of the control force, one entry per coordinate)"
                 )
                 continue
+            nonlinear = False
             if order == 2:
                 acc = [a for a in m.qdd if a in expr.free_symbols]
-                if any(sp.diff(expr, a, b) != 0 for a in acc for b in acc):
-                    self.problems.append(f"{where}: a second-order constraint must be linear in the accelerations")
+                nonlinear = any(sp.diff(expr, a, b) != 0 for a in acc for b in acc)
+                if nonlinear and c.reaction is None:
+                    self.problems.append(
+                        f"{where}: a second-order constraint nonlinear in the accelerations needs "
+                        "'reaction' (the generalized direction of the force that realizes it; "
+                        "Yushkov 1999, ch. IV) and, optionally, root = \"largest\" | \"smallest\"")
                     continue
+            if c.root is not None and c.root not in ROOT_RULES:
+                self.problems.append(f"{where}: root must be one of {', '.join(ROOT_RULES)} "
+                                     f"(got {c.root!r}){did_you_mean(str(c.root), ROOT_RULES)}")
+                continue
+            if c.root is not None and not nonlinear:
+                self.problems.append(f"{where}: 'root' applies only to a constraint nonlinear in "
+                                     "its highest derivative (this one has a single multiplier); remove it")
+                continue
             if identically_zero(expr):
                 shown = c.expr if isinstance(c.expr, str) else str(c.expr)
                 self.problems.append(
@@ -336,6 +353,36 @@ class Normalizer:
                 if all(r == 0 for r in reaction):
                     self.problems.append(f"{where}: reaction direction is zero")
                     continue
+            controls = cost = None
+            several = c.controls
+            if c.cost is not None and several is None:
+                self.problems.append(f"{where}: 'cost' weighs several control directions: give "
+                                     "reaction as a list of directions, reaction = [[...], [...]]")
+                continue
+            if several is not None:
+                cols = [self.vector(col, f"{where}: reaction[{k}]", (m.n_q,), order=1)
+                        for k, col in enumerate(several)]
+                if any(col is None for col in cols):
+                    continue
+                if c.reaction is not None or c.transform is not None or nonlinear:
+                    self.problems.append(f"{where}: several control directions (reaction = [[..], ..]) "
+                                         "exclude a single reaction, a transform and a root rule")
+                    continue
+                controls = tuple(tuple(col) for col in cols)
+                j = len(controls)
+                if c.cost is not None:
+                    square = isinstance(c.cost, (list, tuple)) and len(c.cost) == j \
+                        and all(isinstance(r, (list, tuple)) and len(r) == j for r in c.cost)
+                    rows_ = [self.vector(r, f"{where}: cost", (j,), order=0) for r in c.cost] if square else []
+                    if not square or any(r is None for r in rows_):
+                        self.problems.append(f"{where}: cost must be {j}x{j} (one row and column "
+                                             "per control direction)")
+                        continue
+                    cost = tuple(tuple(r) for r in rows_)
+                    bad = _cost_problem(cost, self.m.parameters)
+                    if bad:
+                        self.problems.append(f"{where}: cost {bad}")
+                        continue
             transform = None
             if c.transform is not None:
                 rows = [self.vector(r, f"{where}: transform", (m.n_q,), order=1) for r in c.transform]
@@ -348,13 +395,26 @@ class Normalizer:
                 if c.reaction is not None:
                     self.problems.append(f"{where}: give either 'reaction' (servo) or 'transform' (quasi-ideal), not both")
                     continue
+            losses = None
+            if c.losses is not None:
+                losses = self.vector(c.losses, f"{where}: losses", (m.n_q,), order=0)
+                if losses is None:
+                    continue
+                params = {sp.Symbol(n) for n in m.parameters}
+                others = sorted({str(s) for e in losses for s in e.free_symbols} - {str(s) for s in params})
+                if others:
+                    self.problems.append(f"{where}: losses must be numbers or expressions in the "
+                                         f"parameters (got {', '.join(others)})")
+                    continue
             kind = "holonomic" if order == 0 else "nonholonomic"
             restitution = float(c.restitution)
             if not 0.0 <= restitution <= 1.0:
                 self.problems.append(f"{where}: restitution must lie in [0, 1] (got {restitution})")
                 continue
             out.append(Constraint(c.name, expr, kind, bool(c.unilateral), reaction, transform,
-                                  restitution=restitution, order=order))
+                                  restitution=restitution, order=order, losses=losses,
+                                  root=(c.root or "largest") if nonlinear else None,
+                                  controls=controls, cost=cost))
         self.set("constraints", tuple(out))
 
     def contacts(self) -> None:
@@ -489,10 +549,8 @@ class Normalizer:
             if e.free_symbols - set(names.values()):
                 self.problems.append(f"{where}: initial values may use parameters only")
                 continue
-            try:
-                float_value(e, where, {s.name: float(v) for s, v in values.items()})
-            except ExpressionError as exc:
-                self.problems.extend(exc.problems)
+            if bad := value_problems(e, where, values):  # a finite real number, in floating point
+                self.problems.extend(bad)
                 continue
             out[key] = e
         self.set("initial", out)
@@ -524,3 +582,18 @@ class Normalizer:
         if sim.t_end is not None and not (isinstance(sim.t_end, (int, float)) and sim.t_end > m.t0):
             self.problems.append(f"[simulation] t_end: must be a number > t0 = {m.t0} (got {sim.t_end!r})")
         self.set("simulation", sim)
+
+
+def _cost_problem(cost, parameters) -> str | None:
+    """Why a quadratic cost of the controls is not symmetric positive definite (at the
+    parameters' values), or None."""
+    values = parameter_values(parameters)
+    try:
+        W = np.array([[float(sp.sympify(x).xreplace(values)) for x in row] for row in cost])
+    except (TypeError, ValueError):
+        return "must contain numbers or expressions in the parameters only"
+    if not np.allclose(W, W.T):
+        return "must be symmetric"
+    if np.min(np.linalg.eigvalsh(W)) <= 0:
+        return "must be positive definite (the rule minimizes u^T cost u)"
+    return None

@@ -162,3 +162,14 @@ def identically_zero(expr: sp.Expr) -> bool:
         if not abs(value) <= 1e-12:
             return False
     return True
+
+
+def value_problems(expr: sp.Expr, where: str, values: Mapping[sp.Symbol, Any]) -> list[str]:
+    """The problems of the number *expr* gives with the parameter *values* (``{symbol:
+    value}``), computed in floating point (:func:`~.expressions.float_value`); ``[]`` when it
+    is a finite real number."""
+    try:
+        float_value(expr, where, {s.name: float(v) for s, v in values.items()})
+    except ExpressionError as exc:
+        return exc.problems
+    return []

@@ -165,8 +165,9 @@ def explain_mechanics_error(model: Model, exc: MechanicsError) -> Exception:
     The mode selection treats a singular system as "no consistent choice"; a singular mass
     matrix or dependent constraints are bad input (exit code 2), not a paradox.
     """
-    if isinstance(exc, PainleveParadox):
-        return exc
+    if isinstance(exc, PainleveParadox) or "discriminant" in exc.details \
+            or "order_tried" in exc.details:
+        return exc     # already named: a root rule selecting nothing, an unreachable program
     found = None
     names = list(model.coordinates)
     if exc.t is not None and all(c in exc.state and c + "'" in exc.state for c in names):
@@ -199,6 +200,11 @@ def diagnose_singular(solver, M, G, B, layout, t, q, qd) -> Exception:
     where = f" at t = {t:.6g} ({state}; {rates})"
     m = len(layout)
     bad = [r.name for j, r in enumerate(layout) if not (np.all(np.isfinite(G[j])) and np.all(np.isfinite(B[:, j])))]
+    if bad:
+        from ..numeric.kernel import root_failure
+        failure = root_failure(kernel, t, q, qd, solver.params)
+        if failure is not None:
+            return failure
     if bad or not (np.all(np.isfinite(M))):
         what = (f"constraint(s) {', '.join(repr(b) for b in bad)} are not differentiable" if bad
                 else "the mass matrix is not finite")

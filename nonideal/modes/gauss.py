@@ -61,9 +61,39 @@ def gauss_minimize(M: np.ndarray, force: np.ndarray, G: np.ndarray, gamma: np.nd
 
 
 def gauss_measure(M: np.ndarray, force: np.ndarray, qdd: np.ndarray) -> float:
-    """Gauss's constraint ``1/2 (a - M^-1 f)^T M (a - M^-1 f)``."""
-    d = qdd - np.linalg.solve(M, force)
+    """Gauss's constraint ``1/2 (a - M^-1 f)^T M (a - M^-1 f)``.  With coordinates without
+    inertia (M singular, the accelerations still unique through the constraints) the
+    least-squares M^-1 f is used: the measure is defined up to the massless directions, which
+    it does not weigh."""
+    try:
+        free = np.linalg.solve(M, force)
+    except np.linalg.LinAlgError:
+        free = np.linalg.lstsq(M, force, rcond=None)[0]
+    d = qdd - free
     return float(0.5 * d @ M @ d)
+
+
+def _gauss_with_controls(M, F, G, gamma, B, controlled, t) -> GaussResult:
+    """Gauss's principle with servo / quasi-ideal constraints (Yushkov 1999, ch. III: the force
+    that enforces a program).  The controls ``u`` act along the given columns ``B_c``; for any u
+    the motion minimizes Gauss's constraint with the force ``F + B_c u`` under the ideal rows,
+    so ``q''(u) = a_0 + A u`` (one null-space solve per column); u is then the solution of the
+    programs ``G_c q''(u) + gamma_c = 0`` (least norm if they leave it undetermined)."""
+    ideal = [k for k in range(G.shape[0]) if k not in controlled]
+    Gi, gi = G[ideal], gamma[ideal]
+    Bc = B[:, controlled]
+    a0 = gauss_minimize(M, F, Gi, gi)
+    A = np.column_stack([gauss_minimize(M, Bc[:, j], Gi, np.zeros(len(ideal)))
+                         for j in range(Bc.shape[1])])
+    Gc, gc = G[controlled], gamma[controlled]
+    u, *_ = np.linalg.lstsq(Gc @ A, -(Gc @ a0 + gc), rcond=None)
+    qdd = a0 + A @ u
+    force = F + Bc @ u
+    lam = np.zeros(G.shape[0])
+    lam[controlled] = u
+    if ideal:
+        lam[ideal] = np.linalg.lstsq(Gi.T, M @ qdd - force, rcond=None)[0]
+    return GaussResult(qdd, lam, {}, np.zeros(len(F)), gauss_measure(M, force, qdd))
 
 
 def gauss_accelerations(solver, t: float, q: np.ndarray, qd: np.ndarray, mode) -> GaussResult:
@@ -72,8 +102,7 @@ def gauss_accelerations(solver, t: float, q: np.ndarray, qd: np.ndarray, mode) -
     Raises
     ------
     FormNotApplicable
-        For servo / quasi-ideal constraints (Gauss's principle here is for ideal constraints
-        plus friction).
+        For servo / quasi-ideal constraints together with sliding contacts.
     PainleveParadox
         When the friction law of the system cannot be inverted.
     """
@@ -85,19 +114,22 @@ def gauss_accelerations(solver, t: float, q: np.ndarray, qd: np.ndarray, mode) -
     cout = {k: np.array(v) if isinstance(v, np.ndarray) else v for k, v in ck(x).items()} if ck else None
     M, F = out["M"].copy(), out["F"].copy()
     layout = solver.layout(mode)
-    for r in layout:
-        if r.kind == "constraint" and kernel.rows[r.index].reaction_kind != "ideal":
-            raise FormNotApplicable(
-                f"gauss: constraint '{r.name}' is a servo / quasi-ideal constraint; Gauss's "
-                "principle applies to ideal constraints with friction -- use lagrange1")
+    sliding = [(c, cs) for c, (_, cs) in enumerate(mode.contacts) if cs.state in (SLIDE, SMOOTH)]
+    controlled = [k for k, r in enumerate(layout)
+                  if r.kind == "constraint" and kernel.rows[r.index].reaction_kind != "ideal"]
+    if controlled and sliding:
+        raise FormNotApplicable(
+            "gauss: servo / quasi-ideal constraints together with sliding contacts are not "
+            "covered by the generalized Gauss principle here -- use lagrange1")
     if layout:
-        G, gamma, _ = solver.assemble(mode, layout, out, cout)
+        G, gamma, B = solver.assemble(mode, layout, out, cout)
     else:
         G, gamma = np.zeros((0, solver.n)), np.zeros(0)
+    if controlled:
+        return _gauss_with_controls(M, F, G, gamma, B, controlled, t)
     # 1. friction-free Gauss problem -> constraint forces
     a0 = gauss_minimize(M, F, G, gamma)
     lam = np.linalg.lstsq(G.T, M @ a0 - F, rcond=None)[0] if layout else np.zeros(0)
-    sliding = [(c, cs) for c, (_, cs) in enumerate(mode.contacts) if cs.state in (SLIDE, SMOOTH)]
     if not sliding:
         return GaussResult(a0, lam, {}, np.zeros(solver.n), gauss_measure(M, F, a0))
     # 2. friction law of the system: lambda = A N  ->  N

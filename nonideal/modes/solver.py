@@ -31,14 +31,10 @@ from ..equations.formalisms import derive
 from ..numeric.kernel import FormSystem, Kernel, SingularMatrix, max_abs, solve_saddle
 from .diagnosis import diagnose_singular
 from .partition import better_partition
+from .routes import route_for
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, ContactForce, ContactState, Mode, RowSpec, Solution
 
 __all__ = ["ModeSolver", "recover_multipliers", "coulomb_exact"]
-
-
-# compiled reduced forms, per model and form: {(id(model), form): ({key: FormSystem},
-# {(structure, kept): [FormSystem]} (the charts of Lagrange II), model)}
-_FORM_CACHE: dict[tuple, tuple[dict, dict, object]] = {}
 
 
 class ModeSolver:
@@ -70,20 +66,20 @@ class ModeSolver:
         self.specialize = specialize
         self.params = params
         self.form = form
+        #: how the motion is solved (chosen once by the form)
+        self.route = route_for(form)
         self.independent = independent
         self.model = kernel.model
         self.ck = contact_kernel_of(kernel.model)
         self.bilateral = [i for i, r in enumerate(kernel.rows) if not r.unilateral]
         self.unilateral = [i for i, r in enumerate(kernel.rows) if r.unilateral]
-        entry = _FORM_CACHE.get((id(self.model), form))
-        if entry is None or entry[2] is not self.model:
-            if len(_FORM_CACHE) > 64:
-                _FORM_CACHE.clear()
-            entry = _FORM_CACHE[(id(self.model), form)] = ({}, {}, self.model)
+        # compiled reduced forms of this model and form: ({key: FormSystem},
+        # {(structure, kept): [FormSystem]} (the charts of Lagrange II))
+        entry = self.model.cached(("forms", form), lambda: ({}, {}))
         self._forms: dict[tuple, FormSystem] = entry[0]
         #: Lagrange II: the charts the motion moves through (:class:`~nonideal.charts.Charts`)
         self.charts = None
-        if form == "lagrange2":
+        if self.route.charts:
             from .charts import Charts
 
             self.charts = Charts(self, entry[1])
@@ -252,7 +248,7 @@ class ModeSolver:
         """Derive and compile the form for the structure of *mode* (not cached; *branch*:
         Lagrange II's chart through these coordinates, see :func:`~nonideal.formalisms.derive`)."""
         rows, extra = self._symbolic_rows(mode)
-        if branch is None and self.form == "lagrange2":
+        if branch is None and self.route.charts:
             branch = initial_branch(self.model)
         eom = derive(self.model, self.form, rows=rows, independent=independent, branch=branch)
         if self.charts is not None and "chart" in eom.extras_:
@@ -268,7 +264,7 @@ class ModeSolver:
         Lagrange II changes charts after the evaluation (:meth:`_solve_on_chart`)."""
         key = mode.structure
         fs = self._active.get(key) or self.form_system(mode)
-        if self.independent is not None or not fs.eom.eliminated or self.form == "lagrange2":
+        if self.independent is not None or not fs.eom.eliminated or not self.route.repartition:
             self._active[key] = fs
             return fs
         ideal = self._eliminated_rows(mode, fs, layout)
@@ -315,7 +311,7 @@ class ModeSolver:
         into reused buffers, valid until the next call.
         """
         layout = self.layout(mode)
-        if self.form == "gauss":
+        if self.route.gauss:
             from .gauss import gauss_accelerations
 
             qdd = gauss_accelerations(self, t, q, qd, mode).qdd
@@ -328,14 +324,14 @@ class ModeSolver:
         M, F = out["M"], out["F"]
         try:
             if not layout:
-                if self.form == "lagrange1":
+                if self.route.saddle_point:
                     qdd, mu = solve_saddle(M, F)
                     return qdd, mu, layout, out, cout
                 Gm = np.zeros((0, self.n))
             else:
                 Gm, gm, Bm = self.assemble(mode, layout, out, cout)
                 dependent = self.system(mode).dependent(Gm)
-                if self.form == "lagrange1":
+                if self.route.saddle_point:
                     if dependent:
                         raise SingularMatrix("dependent rows")
                     qdd, mu = solve_saddle(M, F, Bm, Gm, gm)
@@ -352,7 +348,7 @@ class ModeSolver:
         except SingularMatrix:
             Gm, gm, Bm = self.assemble(mode, layout, out, cout) if layout else (
                 np.zeros((0, self.n)), np.zeros(0), np.zeros((self.n, 0)))
-            if self.form == "lagrange1" and any(r.kind != "constraint" for r in layout):
+            if self.route.saddle_point and any(r.kind != "constraint" for r in layout):
                 sol = _minimum_norm(M, F, Bm, Gm, gm)
                 if sol is not None:
                     return sol[0], sol[1], layout, out, cout
@@ -399,7 +395,7 @@ class ModeSolver:
             Singular mass matrix or dependent constraints (named).
         """
         n = self.n
-        if self.form == "lagrange1":
+        if self.route.saddle_point:
             system = self.system(mode)
             y = np.concatenate((q, qd))
             K, r, _ = system.assemble(self, t, y, mode)

@@ -507,8 +507,8 @@ def validate_contacts(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarra
     x = solver.input(t, q, qd)
     # a pure function of the model and the input: states already found valid are not checked again
     key = x.tobytes()
-    seen = _VALIDATED.get(id(ck))
-    if seen is not None and seen[0] is ck and key in seen[1]:
+    seen = solver.model.cached("valid contact inputs", set)
+    if key in seen:
         return
     cout = {k: np.array(v) if isinstance(v, np.ndarray) else v for k, v in ck(x).items()}
     out = solver.kernel.dynamics(x)
@@ -539,11 +539,9 @@ def validate_contacts(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarra
                             "normal force can be identified; write the gap as the normal distance")
     if problems:
         raise ModelError(problems, src)
-    if seen is None or seen[0] is not ck or len(seen[1]) > 256:
-        if len(_VALIDATED) > 32:
-            _VALIDATED.clear()
-        seen = _VALIDATED[id(ck)] = (ck, set())
-    seen[1].add(key)
+    if len(seen) > 256:
+        seen.clear()
+    seen.add(key)
 
 
 def validate_state(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray) -> None:
@@ -560,8 +558,8 @@ def validate_state(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray) 
     validate_contacts(solver, t, q, qd)
     x = solver.input(t, q, qd)
     key = x.tobytes()
-    seen = _WELL_POSED.get(id(solver.kernel))
-    if seen is not None and seen[0] is solver.kernel and key in seen[1]:
+    seen = solver.model.cached("well-posed inputs", set)
+    if key in seen:
         return
 
     model = solver.model
@@ -582,16 +580,6 @@ def validate_state(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray) 
         if diagnose_initial_state(model, definite=True) is None:  # another state than the initial one
             raise singular_configuration(problem)
         raise problem
-    if seen is None or seen[0] is not solver.kernel or len(seen[1]) > 256:
-        if len(_WELL_POSED) > 32:
-            _WELL_POSED.clear()
-        seen = _WELL_POSED[id(solver.kernel)] = (solver.kernel, set())
-    seen[1].add(key)
-
-
-# inputs at which validate_state found a model's equations well posed (as _VALIDATED)
-_WELL_POSED: dict[int, tuple] = {}
-
-# inputs [t, q, q', parameters] at which validate_contacts found a model's contacts valid:
-# {id(contact kernel): (contact kernel, set of input bytes)}
-_VALIDATED: dict[int, tuple] = {}
+    if len(seen) > 256:
+        seen.clear()
+    seen.add(key)

@@ -444,19 +444,9 @@ class _NotCompiled(Exception):
     """A mode :class:`ModeFunction` does not compile (the epsilon-linear friction law)."""
 
 
-# systems per kernel and mode structure: {(id(kernel), structure): (kernel, ModeSystem)}
-_SYSTEMS: dict[tuple, tuple] = {}
-
-
 def system_of(kernel, mode: Mode) -> ModeSystem:
     """The (cached) :class:`ModeSystem` of *mode*'s structure for *kernel*."""
-    key = (id(kernel), mode.structure)
-    hit = _SYSTEMS.get(key)
-    if hit is None or hit[0] is not kernel:
-        if len(_SYSTEMS) > 512:
-            _SYSTEMS.clear()
-        hit = _SYSTEMS[key] = (kernel, ModeSystem(kernel, mode))
-    return hit[1]
+    return kernel.model.cached(("mode system", mode.structure), lambda: ModeSystem(kernel, mode))
 
 
 def cached(solver, t: float, y: np.ndarray, mode: Mode):
@@ -512,7 +502,7 @@ class Motion:
     def _solved(self):
         """``[q''; -lambda]`` (Lagrange I), or None when :attr:`_solution` holds the motion."""
         if self._sol is None and self._solution is None:
-            if self.solver.form == "lagrange1":
+            if self.solver.route.saddle_point:
                 hit = cached(self.solver, self.t, self.y, self.mode)
                 try:
                     self._sol, self._lu, self._piv = (hit or self._solve())[3:]

@@ -20,8 +20,8 @@ import numpy as np
 from scipy.linalg import qr
 
 from .contact_kernel import contact_kernel_of
-from ..errors import InconsistentInitialConditions, NonidealError
-from .kernel import Kernel, kernel_of, parameter_vector
+from ..errors import InconsistentInitialConditions, MechanicsError, NonidealError
+from .kernel import Kernel, kernel_of, parameter_vector, root_failure
 
 __all__ = ["complete_state", "project_state", "project_positions", "project_velocities",
            "random_admissible_states", "initial_branch", "GIVEN_TOL"]
@@ -55,6 +55,13 @@ class _Levels:
         # slip rows (velocity level only): used for states where the contacts stick
         rows += [_Row(f"{c.name}_t{j + 1}", "slip", k, False, False)
                  for k, c in enumerate(self.ck.data) for j in range(len(c.U))]
+        # conditions of dynamics of servo-constraints whose control acts through the dynamics
+        # (the program itself among them): equalities of the state, not rows of the motion
+        self.conditions = kernel.conditions
+        if self.conditions is not None:
+            _, cnames, cpos = self.conditions
+            rows += [_Row(name, "condition", k, hol, False) for k, (name, hol) in enumerate(zip(cnames, cpos))]
+        self.n_slip_end = len(kernel.rows) + len(self.ck.data) + sum(len(c.U) for c in self.ck.data)
         self.rows = rows
         self.has_velocity = [kernel.rows[r.index].velocity is not None if r.kind == "constraint" else True
                              for r in rows]
@@ -63,6 +70,7 @@ class _Levels:
     def __call__(self, t, q, qd):
         """``(G, pos, vel)`` of every row at a state (G is dpos/dq = dvel/dq')."""
         k = self.kernel
+        self.last_qd = qd
         x = k.state_input(t, q, qd, self.params)
         m = len(self.rows)
         G = np.zeros((m, k.n))
@@ -81,8 +89,13 @@ class _Levels:
             G[nk:ne] = cout["Gn"]
             pos[nk:ne] = cout["gap"]
             vel[nk:ne] = cout["gap_rate"]
-            G[ne:] = cout["W"]
-            vel[ne:] = cout["U"]
+            G[ne:self.n_slip_end] = cout["W"]
+            vel[ne:self.n_slip_end] = cout["U"]
+        if self.conditions is not None:
+            cout = self.conditions[0](x)
+            G[self.n_slip_end:] = cout["G"]
+            pos[self.n_slip_end:] = cout["pos"]
+            vel[self.n_slip_end:] = cout["vel"]
         return G, pos, vel
 
 
@@ -218,6 +231,7 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
             if found:
                 break
         if not found:
+            _unreachable_program(levels, t0, q, qd, miss_v)
             raise InconsistentInitialConditions(
                 _missing_values(names, [], 0, miss_v, _undetermined(levels, vel_eq, miss_v, t0, q, qd)),
                 _src(model))
@@ -241,8 +255,34 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     return q, qd, closed_constraints
 
 
+def _unreachable_program(levels: _Levels, t, q, qd, missing) -> None:
+    """A servo-constraint whose control acts through the dynamics and whose condition of
+    dynamics, at the initial configuration, neither holds nor depends on the velocities left
+    free: no motion from this state keeps the program (exit code 3, the program and the order
+    of the derivative tried named)."""
+    kernel = levels.kernel
+    G, _, vel = levels(t, q, qd)
+    for name, reached in kernel.dyn.servo_reach.items():
+        i = kernel.row_index[name]
+        if reached.order <= 2 or reached.row.velocity is None:
+            continue
+        free = np.abs(G[i, missing]).max() if missing else 0.0
+        if free <= 1e-12 * (1.0 + np.abs(G[i]).max()) and abs(vel[i]) > GIVEN_TOL * _scale(qd):
+            state = {c: float(v) for c, v in zip(kernel.model.coordinates, q)}
+            raise MechanicsError(
+                f"servo-constraint '{name}' cannot be kept from the initial state: its control acts "
+                f"through the dynamics (the program differentiated to order {reached.order}) and its "
+                f"condition of dynamics is violated (value {vel[i]:.6g}) without depending on the "
+                f"free velocities {', '.join(kernel.model.coordinates[j] + chr(39) for j in missing)} "
+                "here: the control cannot reach the program at this configuration; start elsewhere",
+                t, state, details={"program": name, "order_tried": reached.order})
+
+
 def _require_finite(levels, G, pos, vel, t, q, model) -> None:
     """Every constraint row must have a finite value and gradient at the initial state."""
+    failure = root_failure(levels.kernel, t, q, levels.last_qd, levels.params)
+    if failure is not None:
+        raise failure
     problems = []
     names = list(model.coordinates)
     state = ", ".join(f"{c} = {float(v):.6g}" for c, v in zip(names, q))

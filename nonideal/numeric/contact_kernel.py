@@ -84,15 +84,6 @@ class ContactKernel:
         return out["U"][o:o + self.dims[c]]
 
 
-_CACHE: dict[int, tuple[Model, ContactKernel]] = {}
-
-
 def contact_kernel_of(model: Model) -> ContactKernel:
-    hit = _CACHE.get(id(model))
-    if hit is not None and hit[0] is model:
-        return hit[1]
-    k = ContactKernel(model)
-    if len(_CACHE) > 32:
-        _CACHE.clear()
-    _CACHE[id(model)] = (model, k)
-    return k
+    """The (cached) compiled kernel of *model*'s contacts."""
+    return model.cached("contact kernel", lambda: ContactKernel(model))

@@ -32,7 +32,7 @@ from scipy.linalg import lapack
 
 from ..equations.dynamics import ConstraintRow, Dynamics, dynamics_of
 from ..equations.eom import EquationsOfMotion
-from ..errors import ModelError, did_you_mean
+from ..errors import MechanicsError, ModelError, did_you_mean
 from ..modeling.model import Model
 
 __all__ = ["Compiled", "Kernel", "FormSystem", "solve_saddle", "SingularMatrix", "kernel_of", "max_abs"]
@@ -292,6 +292,41 @@ class Kernel:
             self._obs = Compiled(self.symbols, outputs)
         return self._obs
 
+    @property
+    def root_discriminants(self):
+        """``(Compiled with output "disc", names)`` for the constraints nonlinear in the
+        accelerations (their discriminants must stay >= 0), or None."""
+        if "_roots" not in self.__dict__:
+            roots = {name: disc for name, (_, disc, _) in self.dyn.root_rows.items() if disc is not None}
+            self.__dict__["_roots"] = (Compiled(self.symbols, {"disc": list(roots.values())}), list(roots)) \
+                if roots else None
+        return self.__dict__["_roots"]
+
+    @property
+    def conditions(self) -> Compiled | None:
+        """The conditions that hold along the motion besides the rows -- programs whose control
+        acts through the dynamics and their intermediate conditions of dynamics
+        (``Dynamics.servo_conditions``): ``G (k, n)`` (d vel / d q'), ``pos (k,)``, ``vel (k,)``;
+        None when there are none."""
+        if "_conditions" not in self.__dict__:
+            conds = self.dyn.servo_conditions()
+            self.__dict__["_conditions"] = None
+            if conds:
+                zero = se.Integer(0)
+                G = []
+                for c in conds:
+                    if c.position is not None:
+                        G.append([se.diff(c.position, qk) for qk in self.dyn.q])
+                    else:
+                        G.append([se.diff(c.velocity, v) for v in self.dyn.qd])
+                outputs = {"G": G,
+                           "pos": [c.position if c.position is not None else zero for c in conds],
+                           "vel": [c.velocity if c.velocity is not None else zero for c in conds]}
+                self.__dict__["_conditions"] = (Compiled(self.symbols, outputs),
+                                                [c.name for c in conds],
+                                                [c.position is not None for c in conds])
+        return self.__dict__["_conditions"]
+
     def state_input(self, t: float, q, qd, params: np.ndarray) -> np.ndarray:
         x = self.layout.make(params)
         x[0] = t
@@ -306,19 +341,9 @@ class Kernel:
         return pos, vel
 
 
-_KERNELS: dict[int, tuple[Model, Kernel]] = {}
-
-
 def kernel_of(model: Model) -> Kernel:
     """The (cached) compiled kernel of *model*."""
-    hit = _KERNELS.get(id(model))
-    if hit is not None and hit[0] is model:
-        return hit[1]
-    k = Kernel(model)
-    if len(_KERNELS) > 32:
-        _KERNELS.clear()
-    _KERNELS[id(model)] = (model, k)
-    return k
+    return model.cached("kernel", lambda: Kernel(model))
 
 
 class FormSystem:
@@ -391,3 +416,28 @@ class FormSystem:
             a, mu = solve_saddle(out["A"], out["b"])
         qdd = out["R"] @ a + out["r"]
         return a, mu, qdd
+
+
+def root_failure(kernel, t: float, q, qd, params) -> MechanicsError | None:
+    """A root rule that selects nothing at a state: the discriminant of a constraint nonlinear
+    in the accelerations is negative (its two branches have met and no real multiplier keeps
+    the constraint).  Returns the error to raise (exit code 3, with the state), or None."""
+    compiled = kernel.root_discriminants
+    if compiled is None:
+        return None
+    fn, names = compiled
+    values = np.atleast_1d(np.asarray(fn(kernel.state_input(t, q, qd, params))["disc"], dtype=float))
+    bad = [(nm, v) for nm, v in zip(names, values) if not v >= 0]
+    if not bad:
+        return None
+    coords = kernel.model.coordinates
+    state = {c: float(v) for c, v in zip(coords, q)}
+    state.update({c + "'": float(v) for c, v in zip(coords, qd)})
+    name, value = bad[0]
+    rule = kernel.model.constraint(name).root
+    return MechanicsError(
+        f"constraint '{name}': the root rule root = \"{rule}\" selects nothing: no real multiplier "
+        f"keeps the constraint at this state (the discriminant of its quadratic in the multiplier "
+        f"is {value:.6g} < 0: its two roots have met and left the real line); the force along the "
+        "given reaction direction cannot realize the constraint here -- change the direction, the "
+        "program or the initial state", t, state, details={"constraint": name, "discriminant": value})

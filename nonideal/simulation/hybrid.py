@@ -42,9 +42,6 @@ from .zeno import Accumulation, ImpactSeries
 
 __all__ = ["simulate", "Simulation"]
 
-# completed initial states: {id(kernel): (kernel, {(given values, parameters): (q, q')})}
-_INITIAL: dict[int, tuple] = {}
-
 SOLVERS = {"DOP853": DOP853, "RK45": RK45, "RK23": RK23, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 PROJECTION_TOL = 1e-10
 N_WORK = 5  # active (non-potential), reactions, explicit time, friction, impacts
@@ -115,7 +112,7 @@ class Simulation:
         by index; the powers of the reactions from the same solve); the other forms, and a
         singular system, take the general path of :meth:`ModeSolver.accelerations`.
         """
-        if self.solver.form == "lagrange1":
+        if self.solver.route.saddle_point:
             return self._lagrange1_rhs(mode)
         return self._general_rhs(mode)
 
@@ -367,17 +364,15 @@ class Simulation:
         given.update(initial or {})
         numbers = all(isinstance(v, (int, float, np.number)) for v in given.values())
         key = (tuple(sorted(given.items())), self.params.tobytes()) if numbers else None
-        hit = _INITIAL.get(id(self.kernel))
-        if hit is not None and hit[0] is self.kernel and key in hit[1]:
-            q, qd = hit[1][key]
+        memo = self.model.cached("initial states", dict)
+        if key in memo:
+            q, qd = memo[key]
             return q.copy(), qd.copy()
         q, qd, closed = complete_state(self.kernel, given, self.params, self.model.t0)
         if key is not None:
-            if hit is None or hit[0] is not self.kernel or len(hit[1]) > 256:
-                if len(_INITIAL) > 32:
-                    _INITIAL.clear()
-                hit = _INITIAL[id(self.kernel)] = (self.kernel, {})
-            hit[1][key] = (q.copy(), qd.copy())
+            if len(memo) > 256:
+                memo.clear()
+            memo[key] = (q.copy(), qd.copy())
         return q, qd
 
     def run(self, t_end: float | None = None, times: Sequence[float] | None = None,

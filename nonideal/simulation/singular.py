@@ -184,12 +184,16 @@ def servo_stall(model, solver, t: float, y: np.ndarray, mode) -> None:
                 if abs(w[k]) > 1e-3 * np.max(np.abs(w)) and kernel.rows[i].reaction_kind != "ideal"]
     state = dict(zip(model.coordinates, q))
     state.update({c + "'": float(v) for c, v in zip(model.coordinates, qd)})
+    orders = {x: kernel.dyn.servo_reach[x].order for x in involved if x in kernel.dyn.servo_reach}
+    tried = "".join(f"; the control of '{x}' acts through the dynamics: the program was differentiated to "
+                    f"order {k} (its condition of dynamics loses the control)" for x, k in orders.items() if k > 2)
     raise MechanicsError(
         f"the servo/quasi-ideal constraint(s) {', '.join(repr(x) for x in involved)} stop being "
         f"realizable at t = {t:.10g}: G M^-1 B is singular there (smallest singular value "
         f"{relative:.2g} of its scale) -- the control direction has turned orthogonal, in the "
         "metric of M, to the program's gradient, and the control force needed grows without "
-        "bound; the programmed motion cannot be continued with this control", t, state)
+        f"bound; the programmed motion cannot be continued with this control{tried}", t, state,
+        details={"order_tried": orders} if tried else None)
 
 
 def mass_stall(model, solver, t: float, y: np.ndarray, t0: float, y0: np.ndarray) -> None:

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from scipy.integrate import cumulative_simpson
 
 __all__ = ["Sample", "Trajectory"]
 
@@ -53,6 +54,14 @@ class Trajectory:
     events : list of dict
     diagnostics : dict
     contacts : dict name -> dict of arrays (``normal``, ``friction``, ``slip``, ``mode``)
+    controls : dict name -> dict, one per servo-constraint (Béghin 1922): ``force`` (N,) the
+        control u (the multiplier of the program: the generalized control force is ``D u``),
+        ``power`` (N,) ``u D . q'``, ``work`` (N,) its integral by Simpson's rule over the
+        samples (pass a fine ``times`` grid for an accurate work), ``order`` the order of the
+        time derivative of the coordinates in which the control appears (2 ordinarily, more
+        when it acts through the dynamics); for a program with several control directions
+        (Béghin's r < j) also ``u_1 .. u_j``, the least-cost controls, and ``force`` is then the
+        program's multiplier (the generalized control force is ``sum_k d_k u_k``).
 
     Notes
     -----
@@ -77,6 +86,7 @@ class Trajectory:
     events: list[dict]
     diagnostics: dict[str, Any]
     contacts: dict[str, dict[str, Any]] = field(default_factory=dict)
+    controls: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     # ---------------------------------------------------------------- construction
     @classmethod
@@ -144,8 +154,10 @@ class Trajectory:
                               "slip": np.array(slip, dtype=float).reshape(N, d).tolist(),
                               "gap": np.array(gap, dtype=float), "mu_static": np.array(mu_s, dtype=float),
                               "mode": list(label)}
+        controls = _controls(kernel, mult, qd, kernel.dynamics.views(kernel.dynamics.batch(X)), t, X)
         return cls(kernel.model.name, tuple(kernel.model.coordinates), t, q, qd, qdd,
-                   [s.mode.label() for s in samples], mult, energy, list(events), diag, contacts)
+                   [s.mode.label() for s in samples], mult, energy, list(events), diag, contacts,
+                   controls)
 
     # ---------------------------------------------------------------- access
     def __len__(self) -> int:
@@ -180,6 +192,8 @@ class Trajectory:
             "modes": list(self.modes),
             "events": [_jsonable(e) for e in self.events],
             "energy": {k: arr(v) for k, v in self.energy.items()},
+            "controls": {name: {k: (arr(v) if isinstance(v, np.ndarray) else v) for k, v in c.items()}
+                         for name, c in self.controls.items()},
             "diagnostics": _jsonable(self.diagnostics),
         }
 
@@ -204,7 +218,9 @@ class Trajectory:
             contact_columns.append(([v for _, v in cols], c["mode"]))
         header = ["t"] + list(self.coordinates) + [c + "'" for c in self.coordinates] \
             + [c + "''" for c in self.coordinates] + [f"lambda_{k}" for k in self.multipliers] \
-            + contact_header + list(self.energy) + ["mode"]
+            + contact_header + list(self.energy) \
+            + [f"{k}_{name}" for name, c in self.controls.items()
+               for k in ["u", "P", "W"] + sorted(x for x in c if x.startswith("u_"))] + ["mode"]
         with open(path, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(header)
@@ -215,7 +231,38 @@ class Trajectory:
                 for values, modes in contact_columns:
                     row += [f"{v[k]:.17g}" for v in values] + [modes[k]]
                 row += [f"{v[k]:.17g}" for v in self.energy.values()]
+                for c in self.controls.values():
+                    keys = ["force", "power", "work"] + sorted(x for x in c if x.startswith("u_"))
+                    row += [f"{c[key][k]:.17g}" for key in keys]
                 w.writerow(row + [self.modes[k]])
+
+
+def _controls(kernel, mult, qd, dynamics, t, X) -> dict[str, dict[str, Any]]:
+    """Control force, power and work of every servo-constraint over the samples (and, for a
+    program with several control directions, each control ``u_<k>``)."""
+    from ..numeric.kernel import Compiled
+    out = {}
+    reach = kernel.dyn.servo_reach
+    several = kernel.dyn.control_rows
+    for i, r in enumerate(kernel.rows):
+        if r.reaction_kind != "servo":
+            continue
+        u = mult[r.name]
+        B = np.asarray(dynamics["B"], dtype=float).reshape(len(t), kernel.n, -1)[:, :, i]
+        power = u * np.einsum("ki,ki->k", B, qd)
+        if len(t) >= 3 and np.all(np.diff(t) > 0):
+            work = cumulative_simpson(power, x=t, initial=0.0)
+        else:
+            work = np.concatenate(([0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(t)))) \
+                if len(t) else np.zeros(0)
+        out[r.name] = {"force": u, "power": power, "work": work,
+                       "order": reach[r.name].order if r.name in reach else 2}
+        if r.name in several:
+            coef = Compiled(kernel.symbols, {"c": list(several[r.name][1])})
+            C = np.asarray(coef.batch(X), dtype=float).reshape(len(t), -1)
+            for k in range(C.shape[1]):
+                out[r.name][f"u_{k + 1}"] = C[:, k] * u
+    return out
 
 
 def _jsonable(obj):

@@ -15,59 +15,19 @@ import numpy as np
 import pytest
 import symengine as se
 
-from nonideal import Constraint, FormNotApplicable, Model, Particle, PlanarBody
+from nonideal import Constraint, FormNotApplicable, Model, Particle
 from nonideal.numeric.consistency import complete_state, random_admissible_states
 from nonideal.analysis.crosscheck import compare_forms
 from nonideal.analysis.derivation import derive
 from nonideal.modes.types import Mode
 from nonideal.modes.solver import ModeSolver
 from nonideal.numeric.kernel import Compiled, kernel_of, parameter_vector
+from tests.systems import sleigh, painleve, rotating_line
 
 FORMS3 = ["lagrange2", "appell", "shulgin"]
 
 
 # ----------------------------------------------------------------------------- systems
-
-
-def sleigh():
-    """Chaplygin sleigh (gallery "chaplygin-sleigh")."""
-    return Model(
-        name="Chaplygin sleigh", coordinates=["x", "y", "theta"],
-        parameters={"m": 2.0, "I": 0.3, "a": 0.4},
-        bodies=[PlanarBody("sleigh", "m", "I", ["x + a*cos(theta)", "y + a*sin(theta)"], "theta")],
-        constraints=[Constraint.nonholonomic("knife", "-x'*sin(theta) + y'*cos(theta)")],
-        initial={"x": 0.0, "y": 0.0, "theta": 0.0, "x'": 1.0, "theta'": 1.5},
-    )
-
-
-def painleve(midpoint=False, th0=0.3, thd0=0.8, v0=0.5):
-    """M (mass m) on the line y = 0 and M1 (m1) joined by a rod l; gravity along +y."""
-    cons = [Constraint.holonomic("line", "y"),
-            Constraint.holonomic("rod", "(x1 - x)^2 + (y1 - y)^2 - l^2")]
-    if midpoint:  # velocity of the rod's midpoint along the rod (seed 000, sec. 1.3, problem 1)
-        cons.append(Constraint.nonholonomic("midpoint", "(x1 - x)*(y1' + y') - (y1 - y)*(x1' + x')"))
-        v0 = f"l*{thd0}/(2*sin({th0}))"
-    return Model(
-        name="Painleve two points" + (" with the midpoint constraint" if midpoint else ""),
-        coordinates=["x", "y", "x1", "y1"],
-        parameters={"m": 1.0, "m1": 2.0, "l": 0.5, "g": 9.81},
-        bodies=[Particle("M", "m", ["x", "y"]), Particle("M1", "m1", ["x1", "y1"])],
-        gravity=["0", "g"], constraints=cons,
-        initial={"x": 0.0, "y": 0.0, "x1": f"l*cos({th0})", "y1": f"l*sin({th0})",
-                 "x'": v0, "y'": 0.0, "x1'": f"{v0} - l*sin({th0})*{thd0}",
-                 "y1'": f"l*cos({th0})*{thd0}"},
-    )
-
-
-def rotating_line(w=0.7):
-    """A bead on the line y cos(wt) = x sin(wt) turning about the origin, under gravity."""
-    return Model(
-        name="bead on a rotating line", coordinates=["x", "y"],
-        parameters={"m": 1.3, "w": w, "g": 9.81},
-        bodies=[Particle("P", "m", ["x", "y"])], gravity=["0", "-g"],
-        constraints=[Constraint.holonomic("line", "y*cos(w*t) - x*sin(w*t)")],
-        initial={"x": 0.8, "y": 0.0, "x'": 0.3, "y'": "0.8*w"},
-    )
 
 
 def variable_pendulum():

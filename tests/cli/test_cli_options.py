@@ -7,7 +7,6 @@ import pytest
 
 from nonideal.cli import main
 from nonideal.equations.formalisms import FORMS
-from nonideal.analysis.derivation import derive
 from tests.helpers import DATA_DIR
 
 DATA = DATA_DIR

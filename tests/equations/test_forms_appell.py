@@ -5,22 +5,13 @@ import numpy as np
 import pytest
 import symengine as se
 
-from nonideal import Constraint, Model, Particle, PlanarBody
+from nonideal import Constraint, Model, Particle
 from nonideal.analysis.crosscheck import compare_forms
 from nonideal.equations.dynamics import dynamics_of
 from nonideal.equations.formalisms import FORMS
 from nonideal.analysis.derivation import derive
 from nonideal.equations.formalisms.base import numeric_instances
-
-
-def sleigh():
-    return Model(
-        name="Chaplygin sleigh", coordinates=["x", "y", "theta"],
-        parameters={"m": 2.0, "I": 0.3, "a": 0.4},
-        bodies=[PlanarBody("sleigh", "m", "I", ["x + a*cos(theta)", "y + a*sin(theta)"], "theta")],
-        constraints=[Constraint.nonholonomic("knife", "-x'*sin(theta) + y'*cos(theta)")],
-        initial={"x": 0.0, "y": 0.0, "theta": 0.0, "x'": 1.0, "theta'": 1.5},
-    )
+from tests.systems import sleigh
 
 
 def painleve_midpoint(th0=0.3, thd0=0.8):

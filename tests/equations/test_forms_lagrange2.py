@@ -13,21 +13,7 @@ from nonideal.equations.dynamics import dynamics_of
 from nonideal.equations.formalisms import FORMS
 from nonideal.analysis.derivation import derive
 from nonideal.numeric.kernel import FormSystem, kernel_of, parameter_vector
-
-
-def painleve(th0=0.3, thd0=0.8, v0=0.5, independent=None):
-    return Model(
-        name="Painleve two points", coordinates=["x", "y", "x1", "y1"],
-        parameters={"m": 1.0, "m1": 2.0, "l": 0.5, "g": 9.81},
-        bodies=[Particle("M", "m", ["x", "y"]), Particle("M1", "m1", ["x1", "y1"])],
-        gravity=["0", "g"],
-        constraints=[Constraint.holonomic("line", "y"),
-                     Constraint.holonomic("rod", "(x1 - x)^2 + (y1 - y)^2 - l^2")],
-        initial={"x": 0.0, "y": 0.0, "x1": f"l*cos({th0})", "y1": f"l*sin({th0})",
-                 "x'": v0, "y'": 0.0, "x1'": f"{v0} - l*sin({th0})*{thd0}",
-                 "y1'": f"l*cos({th0})*{thd0}"},
-        independent=independent,
-    )
+from tests.systems import painleve
 
 
 def values(expr, **point):

@@ -10,46 +10,12 @@ import pytest
 import symengine as se
 import sympy as sp
 
-from nonideal import Constraint, FormNotApplicable, Model, Particle, PlanarBody
+from nonideal import Constraint, FormNotApplicable, Model, Particle
 from nonideal.analysis.crosscheck import compare_forms
 from nonideal.equations.formalisms import FORMS
 from nonideal.analysis.derivation import derive
 from nonideal.modeling.symbols import to_se
-
-
-def sleigh():
-    return Model(
-        name="Chaplygin sleigh", coordinates=["x", "y", "theta"],
-        parameters={"m": 2.0, "I": 0.3, "a": 0.4},
-        bodies=[PlanarBody("sleigh", "m", "I", ["x + a*cos(theta)", "y + a*sin(theta)"], "theta")],
-        constraints=[Constraint.nonholonomic("knife", "-x'*sin(theta) + y'*cos(theta)")],
-        initial={"x": 0.0, "y": 0.0, "theta": 0.0, "x'": 1.0, "theta'": 1.5},
-    )
-
-
-def painleve():
-    th0, thd0, v0 = 0.3, 0.8, 0.5
-    return Model(
-        name="Painleve two points", coordinates=["x", "y", "x1", "y1"],
-        parameters={"m": 1.0, "m1": 2.0, "l": 0.5, "g": 9.81},
-        bodies=[Particle("M", "m", ["x", "y"]), Particle("M1", "m1", ["x1", "y1"])],
-        gravity=["0", "g"],
-        constraints=[Constraint.holonomic("line", "y"),
-                     Constraint.holonomic("rod", "(x1 - x)^2 + (y1 - y)^2 - l^2")],
-        initial={"x": 0.0, "y": 0.0, "x1": f"l*cos({th0})", "y1": f"l*sin({th0})",
-                 "x'": v0, "y'": 0.0, "x1'": f"{v0} - l*sin({th0})*{thd0}",
-                 "y1'": f"l*cos({th0})*{thd0}"},
-    )
-
-
-def rotating_line(w=0.7):
-    return Model(
-        name="bead on a rotating line", coordinates=["x", "y"],
-        parameters={"m": 1.3, "w": w, "g": 9.81},
-        bodies=[Particle("P", "m", ["x", "y"])], gravity=["0", "-g"],
-        constraints=[Constraint.holonomic("line", "y*cos(w*t) - x*sin(w*t)")],
-        initial={"x": 0.8, "y": 0.0, "x'": 0.3, "y'": "0.8*w"},
-    )
+from tests.systems import sleigh, painleve, rotating_line
 
 
 S = {n: sp.Symbol(n) for n in ["x", "y", "theta", "x1", "y1", "x'", "y'", "theta'", "x1'", "y1'",

@@ -49,3 +49,33 @@ def test_constraints_held_and_energy_balanced(example):
     d = traj.diagnostics
     assert d["constraint_residual_max"] < 1e-7, name
     assert abs(d["energy_balance_relative"]) < 1e-6, name
+
+
+def _cases():
+    for name in NAMES:
+        model = gallery.load(name)
+        states = ("slide", "stick") if model.contacts else ("slide",)
+        for state in states:
+            yield pytest.param(name, state, id=f"{name}-{state}" if model.contacts else name)
+
+
+@pytest.mark.parametrize("name, contact_state", list(_cases()))
+def test_every_form_agrees_with_lagrange1(name, contact_state, gallery_model):
+    """Every form of the equations (and the Gauss principle) gives Lagrange I's accelerations
+    and multipliers at random admissible states -- contacts sliding, or sticking."""
+    from nonideal import FORMS, FormNotApplicable
+    from nonideal.analysis.crosscheck import compare_forms
+
+    model = gallery_model(name)
+    checked = []
+    for form in [f for f in FORMS if f != "lagrange1"] + ["gauss"]:
+        try:
+            report = compare_forms(model, forms=[form], count=10, contact_state=contact_state)
+        except FormNotApplicable:
+            continue
+        assert report.states == 10, (name, form)
+        assert report.worst() < 1e-9, (name, form, report)
+        checked.append(form)
+    # Gauss's principle is for ideal constraints (with friction): not for servo / quasi-ideal ones
+    nonideal_rows = any(c.reaction_kind != "ideal" for c in model.constraints)
+    assert ("gauss" in checked or nonideal_rows) and len(checked) >= 2, (name, checked)

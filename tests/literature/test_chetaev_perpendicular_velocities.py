@@ -4,8 +4,7 @@ homogeneous of degree 2): closed-form multiplier, energy conservation, independe
 import numpy as np
 import pytest
 
-from nonideal import FORMS, FormNotApplicable, gallery, simulate
-from nonideal.analysis.crosscheck import compare_forms
+from nonideal import FORMS, gallery, simulate
 from nonideal.analysis.evaluation import evaluate
 from nonideal.gallery.perpendicular_velocities import energy, multiplier, reference
 from tests.helpers import cli_json as _cli
@@ -56,16 +55,6 @@ def test_independent_integration(traj):
     q, qd = reference(traj.t, *ARGS)
     assert np.max(np.abs(traj.q - q)) < 1e-8
     assert np.max(np.abs(traj.qd - qd)) < 1e-8
-
-
-@pytest.mark.parametrize("form", OTHER_FORMS)
-def test_form_agrees_with_lagrange1(model, form):
-    try:
-        report = compare_forms(model, forms=[form], count=20)
-    except FormNotApplicable as exc:
-        pytest.skip(f"{form} not applicable: {exc}")
-    assert report.states == 20
-    assert report.worst() < 1e-10, report
 
 
 def test_cli_simulate_and_evaluate():

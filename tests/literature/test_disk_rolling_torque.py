@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 from nonideal import gallery, simulate
-from nonideal.analysis.crosscheck import compare_forms
 from nonideal.gallery.disk_rolling_torque import (
     motion,
     needed_friction,
@@ -113,18 +112,6 @@ def test_energy_balance_and_friction_power(model):
     # work of the torque while rolling = kinetic energy c^2 t^4 / (8 (I + m R^2))
     k = int(np.searchsorted(tr.t, T_LOSS)) - 1
     assert E["active_work"][k] == pytest.approx(4.0 * tr.t[k] ** 4 / (8 * 0.27), rel=1e-9)
-
-
-@pytest.mark.parametrize("state", ["slide", "stick"])
-def test_all_forms_agree(model, state):
-    report = compare_forms(model, contact_state=state)
-    assert report.states == 20
-    assert set(report.accelerations) >= {"lagrange2", "maggi", "appell", "shulgin", "gauss"}
-    assert report.worst() < 1e-10, report
-
-
-def test_gallery_run():
-    assert gallery.run("disk-rolling-torque", verbose=False)["ok"]
 
 
 def test_cli_simulate_json_and_realizability(tmp_path):

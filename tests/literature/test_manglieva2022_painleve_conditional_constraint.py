@@ -4,8 +4,7 @@ sec. 1.3, problem 1, f = 0): multipliers (1.87), (1.89), the first integral behi
 import numpy as np
 import pytest
 
-from nonideal import FORMS, FormNotApplicable, gallery, simulate
-from nonideal.analysis.crosscheck import compare_forms
+from nonideal import FORMS, gallery, simulate
 from nonideal.analysis.evaluation import evaluate
 from nonideal.gallery.painleve_conditional_constraint import (
     angle,
@@ -126,16 +125,6 @@ def test_invariants(traj):
     d = traj.diagnostics
     assert d["energy_balance_relative"] < 1e-8
     assert d["constraint_residual_max"] <= 1e-8
-
-
-@pytest.mark.parametrize("form", OTHER_FORMS)
-def test_form_agrees_with_lagrange1(model, form):
-    try:
-        report = compare_forms(model, forms=[form], count=20)
-    except FormNotApplicable as exc:
-        pytest.skip(f"{form} not applicable: {exc}")
-    assert report.states == 20
-    assert report.worst() < 1e-10, report
 
 
 def test_cli_simulate_and_evaluate():

@@ -4,8 +4,7 @@ sec. 1.1): multipliers (1.27)-(1.28) for any masses, the misprint (1.5), invaria
 import numpy as np
 import pytest
 
-from nonideal import FORMS, FormNotApplicable, gallery, simulate
-from nonideal.analysis.crosscheck import compare_forms
+from nonideal import FORMS, gallery, simulate
 from nonideal.analysis.evaluation import evaluate
 from nonideal.gallery.painleve_two_points import (
     MASSES,
@@ -85,16 +84,6 @@ def test_invariants(model, traj):
     px = p["m"] * traj.velocity("x") + p["m1"] * traj.velocity("x1")
     assert np.max(np.abs(px - px[0])) < 1e-10
     assert np.max(np.abs(traj.coordinate("y"))) < 1e-10
-
-
-@pytest.mark.parametrize("form", OTHER_FORMS)
-def test_form_agrees_with_lagrange1(model, form):
-    try:
-        report = compare_forms(model, forms=[form], count=20)
-    except FormNotApplicable as exc:
-        pytest.skip(f"{form} not applicable: {exc}")
-    assert report.states == 20
-    assert report.worst() < 1e-10, report
 
 
 def test_cli_simulate_and_evaluate():

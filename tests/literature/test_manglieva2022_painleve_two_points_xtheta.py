@@ -4,8 +4,7 @@
 import numpy as np
 import pytest
 
-from nonideal import FORMS, FormNotApplicable, derive, gallery, simulate
-from nonideal.analysis.crosscheck import compare_forms
+from nonideal import FORMS, derive, gallery, simulate
 from nonideal.analysis.evaluation import evaluate
 from nonideal.gallery.painleve_two_points import MASSES, multipliers, random_states
 from nonideal.gallery.painleve_two_points import build as build_redundant
@@ -88,16 +87,6 @@ def test_reduced_forms_keep_x_and_theta(model):
     eom = derive(model, "maggi")
     assert eom.eliminated == ("line",)
     assert set(eom.unknowns) == {"x''", "theta''"}
-
-
-@pytest.mark.parametrize("form", OTHER_FORMS)
-def test_form_agrees_with_lagrange1(model, form):
-    try:
-        report = compare_forms(model, forms=[form], count=20)
-    except FormNotApplicable as exc:
-        pytest.skip(f"{form} not applicable: {exc}")
-    assert report.states == 20
-    assert report.worst() < 1e-10, report
 
 
 def test_cli_simulate_and_evaluate():

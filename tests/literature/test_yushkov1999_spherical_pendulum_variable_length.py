@@ -5,8 +5,7 @@ import numpy as np
 import pytest
 from scipy.integrate import simpson
 
-from nonideal import FORMS, FormNotApplicable, gallery, simulate
-from nonideal.analysis.crosscheck import compare_forms
+from nonideal import FORMS, gallery, simulate
 from nonideal.analysis.evaluation import evaluate
 from nonideal.gallery.spherical_pendulum_variable_length import (
     build_spherical,
@@ -84,16 +83,6 @@ def test_minimal_coordinates_give_the_same_motion(traj, params):
     assert np.max(np.abs(th - sph.coordinate("theta"))) < 1e-8
     assert np.max(np.abs(np.unwrap(ph) - sph.coordinate("phi"))) < 1e-8
     assert np.max(np.abs(phd - sph.velocity("phi"))) < 1e-8
-
-
-@pytest.mark.parametrize("form", OTHER_FORMS)
-def test_form_agrees_with_lagrange1(model, form):
-    try:
-        report = compare_forms(model, forms=[form], count=20)
-    except FormNotApplicable as exc:
-        pytest.skip(f"{form} not applicable: {exc}")
-    assert report.states == 20
-    assert report.worst() < 1e-10, report
 
 
 def test_cli_simulate_and_evaluate(params):

@@ -126,7 +126,7 @@ def test_unknown_keys_everywhere_with_suggestions(capsys):
         p + "[energy]: unknown key 'potentail' (did you mean 'potential'?); allowed: kinetic, "
             "potential",
         p + "[[constraints]] #1 'floor': unknown key 'expresion' (did you mean 'expr'?); "
-            "allowed: description, expr, name, reaction, restitution, transform, type, unilateral",
+            "allowed: cost, description, expr, losses, name, reaction, restitution, root, transform, type, unilateral",
         p + "[[constraints]] #1 'floor': missing expr (a constraint needs name = \"...\" and "
             "expr = \"...\", meaning expr = 0)",
     ]

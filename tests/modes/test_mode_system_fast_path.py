@@ -273,6 +273,12 @@ def test_compiled_mode_function_leaves_degenerate_slips_to_the_index_path():
     assert ModeFunction.of(sim.kernel, sim.solver.system(smooth), smooth) is False
 
 
+def _compiled_systems(model):
+    """The compiled functions of the mode systems derived from *model* (``Model.cached``)."""
+    return [system.function for key, system in model.__dict__.get("_derived", {}).items()
+            if isinstance(key, tuple) and key[0] == "mode system"]
+
+
 @pytest.mark.parametrize("name", ["sphere-sliding-on-plane", "painleve-rod", "stick-slip-oscillator",
                                   "car-on-a-turn", "block-on-incline"])
 def test_simulation_with_compiled_modes_agrees_with_the_index_path(name, monkeypatch):
@@ -280,16 +286,15 @@ def test_simulation_with_compiled_modes_agrees_with_the_index_path(name, monkeyp
     index = nonideal.simulate(model)
     import nonideal.modes.system as mode_system
 
-    mode_system._SYSTEMS.clear()
+    model = gallery.load(name)          # a fresh model: no compiled mode systems yet
     monkeypatch.setattr(mode_system, "SPECIALIZE_CALLS", 0)
     compiled = nonideal.simulate(model)
-    assert any(entry[1].function for entry in mode_system._SYSTEMS.values())
+    assert any(_compiled_systems(model))
     assert [e["type"] for e in compiled.events] == [e["type"] for e in index.events]
     for a, b in zip(compiled.events, index.events):
         assert abs(a["t"] - b["t"]) <= 1e-10 * max(1.0, abs(b["t"]))
     assert np.max(np.abs(compiled.qd[-1] - index.qd[-1])) <= 1e-8 * (1 + np.max(np.abs(index.qd[-1])))
     assert compiled.diagnostics["energy_balance_relative"] < 1e-8
-    mode_system._SYSTEMS.clear()
 
 
 def test_specialize_false_keeps_the_index_path_bit_for_bit(monkeypatch):
@@ -300,7 +305,7 @@ def test_specialize_false_keeps_the_index_path_bit_for_bit(monkeypatch):
     first = nonideal.simulate(model, specialize=False)
     monkeypatch.setattr(mode_system, "SPECIALIZE_CALLS", 0)
     nonideal.simulate(model)  # the modes it integrates get compiled
-    assert any(entry[1].function for entry in mode_system._SYSTEMS.values() if entry[0].model is model)
+    assert any(_compiled_systems(model))
     again = nonideal.simulate(model, specialize=False)
     assert np.array_equal(first.t, again.t) and np.array_equal(first.qd, again.qd)
     assert [e["t"] for e in first.events] == [e["t"] for e in again.events]

@@ -11,6 +11,8 @@
 ``appell``     Gibbs--Appell: derivatives of the acceleration energy (:mod:`.appell`)
 ``shulgin``    Shulgin: redundant coordinates kept, dependent velocities eliminated,
                Voronets' terms for nonholonomic constraints (:mod:`.shulgin`)
+``servo``      Béghin: Lagrange's equations with the reactions of servo-constraints
+               (controls) kept and their control-free combinations (:mod:`.servo`)
 =============  ===========================================================================
 
 The ideal constraints disappear from the reduced forms; non-ideal ones (servo, quasi-ideal,
@@ -28,6 +30,7 @@ from .base import Formalism
 from .lagrange1 import Lagrange1
 from .lagrange2 import Lagrange2
 from .maggi import Maggi
+from .servo import Servo
 from .shulgin import Shulgin
 
 __all__ = ["FORMS", "derive", "Formalism"]
@@ -38,6 +41,7 @@ FORMS: dict[str, type[Formalism]] = {
     "maggi": Maggi,
     "appell": Appell,
     "shulgin": Shulgin,
+    "servo": Servo,
 }
 
 

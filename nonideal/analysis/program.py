@@ -1,0 +1,254 @@
+"""Stability of a programmed motion: the first approximation ``x' = A(t) x + B(t) u`` along it.
+
+The programmed (servo) motion is followed by the simulation from the model's initial state;
+at each sample time the reduced ``A(t)``, ``B(t)`` are computed as for an equilibrium
+(:mod:`nonideal.analysis.linearize`: the perturbations stay on the constraint manifold --
+the servo-constraints included, so the programme's own constraint drift is not reported as
+instability).  For a non-autonomous first approximation the eigenvalues of ``A(t)`` decide
+nothing; the verdict uses
+
+* Persidsky's criterion (Manglieva & Beknazarov 2022, (3.13)): the first approximation is
+  uniformly asymptotically stable when its solutions obey ``|x(t)| <= B e^(-alpha (t - t0))``
+  for every ``t0``; a sufficient bound is the logarithmic norm
+  ``mu(A) = lambda_max((A + A^T)/2)``: ``|x(t)| <= |x(t0)| exp(int mu dt)`` (Wazewski), so
+  ``int_t0^t mu <= -alpha (t - t0) + beta`` over the interval proves it (for one variable this
+  is exactly Persidsky's condition);
+* the fundamental matrix ``Phi(t, t0)`` (integrated with ``A(t)`` interpolated between the
+  samples): its largest characteristic exponent estimate ``ln |Phi(T)| / (T - t0)``.
+
+Controllability of the time-varying system (Krasovskii): ``W(t) = [L1, ..., Ln]`` with
+``L1 = B``, ``L(i+1) = dLi/dt - A(t) Li`` (Manglieva & Beknazarov 2022, (3.30)--(3.31)); the
+derivatives come from splines through the samples.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from ..errors import ModelError
+from ..modeling.model import Model
+from .linear_system import Point, check_parameters, clean, ignorable_set, kernel_of, partition, state_matrices
+from .routh import analyse
+
+__all__ = ["ProgramLinearization", "linearize_program"]
+
+
+@dataclass(frozen=True)
+class ProgramLinearization:
+    """``A(t)``, ``B(t)`` along a programmed motion and the verdict (module docstring).
+
+    Attributes
+    ----------
+    model : str
+    t : ndarray, shape (N,)
+    variables : tuple of str
+    A : ndarray, shape (N, n_x, n_x)
+    B : ndarray, shape (N, n_x, n_u)
+    q, qdot : dict name -> ndarray (N,)
+        The programmed motion at the samples.
+    lognorm : ndarray, shape (N,)
+        ``mu(A(t))``.
+    persidsky_alpha : float
+        ``-int mu dt / (T - t0)``: positive when the logarithmic-norm bound proves uniform
+        asymptotic stability over the interval.
+    exponent : float
+        ``ln |Phi(T, t0)| / (T - t0)``.
+    controllability_rank : ndarray of int, shape (N,)
+        Rank of ``W(t)``.
+    W : ndarray, shape (N, n_x, n_x * n_u), or None
+        ``W(t) = [L1, ..., Ln]`` at the samples (with controls).
+    verdict, reason : str
+    """
+
+    model: str
+    t: np.ndarray
+    variables: tuple
+    A: np.ndarray
+    B: np.ndarray
+    controls: tuple
+    q: dict
+    qdot: dict
+    lognorm: np.ndarray
+    persidsky_alpha: float
+    exponent: float
+    controllability_rank: np.ndarray
+    verdict: str
+    reason: str
+    ignorable: tuple = ()
+    dependent: tuple = ()
+    frozen: dict = field(default_factory=dict)
+    W: np.ndarray | None = None
+
+    def to_dict(self) -> dict:
+        n = len(self.variables)
+        out = {
+            "model": self.model, "about": "program",
+            "state": {"q": {k: float(v[0]) for k, v in self.q.items()},
+                      "qdot": {k: float(v[0]) for k, v in self.qdot.items()}},
+            "variables": list(self.variables), "A": self.A[0].tolist(),
+            "eigenvalues": self.frozen.get("eigenvalues", []),
+            "verdict": self.verdict, "reason": self.reason,
+            "characteristic_polynomial": self.frozen.get("polynomial", ""),
+            "hurwitz": self.frozen.get("hurwitz", []), "conditions": [],
+            "controllability": {"rank": int(self.controllability_rank.min()) if self.controls else 0, "n": n},
+            "t": self.t.tolist(), "A_t": self.A.tolist(), "lognorm": self.lognorm.tolist(),
+            "persidsky_alpha": self.persidsky_alpha, "exponent": self.exponent,
+            "ignorable": list(self.ignorable), "dependent": list(self.dependent),
+        }
+        if self.controls:
+            out["controls"] = list(self.controls)
+            out["B"] = self.B[0].tolist()
+            out["B_t"] = self.B.tolist()
+            out["controllability_rank_t"] = self.controllability_rank.tolist()
+        return out
+
+    def as_text(self) -> str:
+        T = self.t[-1]
+        lines = [f"{self.model}: first approximation along the programmed motion, t in [{self.t[0]:g}, {T:g}]",
+                 f"  variables: {', '.join(self.variables)}"]
+        if self.dependent:
+            lines.append(f"  eliminated by the constraints: {', '.join(self.dependent)}")
+        if self.ignorable:
+            lines.append(f"  ignorable (nothing depends on them): {', '.join(self.ignorable)}")
+        for k in sorted({0, len(self.t) // 2, len(self.t) - 1}):
+            lines.append(f"  A({self.t[k]:.6g}) = " + np.array2string(self.A[k], precision=6).replace("\n", "\n" + " " * 14))
+        lines.append(f"  logarithmic norm mu(A(t)): from {self.lognorm.min():.6g} to {self.lognorm.max():.6g}; "
+                     f"alpha = -int mu dt/(T - t0) = {self.persidsky_alpha:.6g}")
+        lines.append(f"  characteristic exponent estimate ln|Phi(T)|/(T - t0) = {self.exponent:.6g}")
+        if self.controls:
+            lines.append(f"  controllability W(t) = [L1..Ln]: rank {int(self.controllability_rank.min())} "
+                         f"to {int(self.controllability_rank.max())} of {len(self.variables)}")
+        lines.append(f"  verdict: {self.verdict} -- {self.reason}")
+        return "\n".join(lines)
+
+
+def _lognorm(A: np.ndarray) -> float:
+    return float(np.linalg.eigvalsh(0.5 * (A + A.T)).max()) if A.size else 0.0
+
+
+def _trapezoid(y, x):
+    return np.concatenate([[0.0], np.cumsum(0.5 * (y[1:] + y[:-1]) * np.diff(x))])
+
+
+def linearize_program(model: Model, t_end: float | None = None, samples: int = 201,
+                      controls: Sequence[str] = (), keep: Sequence[str] = (),
+                      independent: Sequence[str] | None = None) -> ProgramLinearization:
+    """The first approximation along the motion from the model's initial state.
+
+    Parameters
+    ----------
+    model : Model
+    t_end : float, optional
+        End of the interval (default: ``[simulation] t_end``).
+    samples : int
+        Number of sample times.
+    controls, keep, independent
+        As for :func:`nonideal.analysis.linearize.linearize`.
+
+    Returns
+    -------
+    ProgramLinearization
+    """
+    from scipy.integrate import solve_ivp
+    from scipy.interpolate import CubicSpline
+
+    from ..simulation import simulate
+    check_parameters(model, controls, "--controls")
+    t_end = t_end if t_end is not None else model.simulation.t_end
+    if t_end is None or not t_end > model.t0:
+        raise ModelError(f"--t-end: give the end of the programmed motion (later than t0 = {model.t0:g}), "
+                         "or [simulation] t_end")
+    times = np.linspace(model.t0, t_end, samples)
+    traj = simulate(model, t_end=t_end, times=times)
+    if len(traj.t) != len(times) or abs(traj.t[-1] - t_end) > 1e-9 * max(1.0, abs(t_end)):
+        raise ModelError(f"the programmed motion stopped at t = {traj.t[-1]:.6g} before --t-end {t_end:g} "
+                         f"(events: {[e.get('type') for e in traj.events]}); choose an earlier --t-end")
+    values = model.parameter_values
+    params = np.array([float(values[n]) for n in model.parameters])
+    k = kernel_of(model, tuple(controls))
+    n = k.n
+    names_q = list(model.coordinates)
+    names_v = [c + "'" for c in names_q]
+    indep = [names_q.index(c) for c in (independent or model.independent or ()) if c in names_q]
+    pt0 = Point(k, params, float(times[0]))
+    part = partition(pt0.blocks(traj.q[0], traj.qd[0]), n, indep, model)
+    As, Bs = [], []
+    for i, t in enumerate(times):
+        pt = Point(k, params, float(t))
+        _, _, b = pt.motion(traj.q[i], traj.qd[i])
+        A, B = state_matrices(b, part, n, True, model)
+        As.append(A)
+        Bs.append(B)
+    As, Bs = np.array(As), np.array(Bs)
+    variables = [names_q[j] for j in part.coords_I] + [names_v[j] for j in part.vel_I]
+    # ignorable coordinates: nothing else depends on them, all along the motion
+    cand = [idx for idx, j in enumerate(part.coords_I) if names_q[j] not in keep]
+    S = set(ignorable_set(np.abs(As).max(axis=0), cand))
+    stay = [i for i in range(As.shape[1]) if i not in S]
+    As = np.array([clean(A[np.ix_(stay, stay)]) for A in As])
+    Bs = np.array([clean(B[stay]) for B in Bs])
+    nx = len(stay)
+    mu = np.array([_lognorm(A) for A in As])
+    integral = _trapezoid(mu, times)
+    span = times[-1] - times[0]
+    alpha = -integral[-1] / span
+    beta = float(np.max(integral + alpha * (times - times[0])))
+    # fundamental matrix with A(t) interpolated
+    spline = CubicSpline(times, As.reshape(len(times), -1), axis=0)
+    if nx:
+        sol = solve_ivp(lambda t, y: (spline(t).reshape(nx, nx) @ y.reshape(nx, nx)).ravel(),
+                        (times[0], times[-1]), np.eye(nx).ravel(), rtol=1e-10, atol=1e-12, method="DOP853")
+        Phi = sol.y[:, -1].reshape(nx, nx)
+        exponent = float(np.log(np.linalg.norm(Phi, 2)) / span)
+    else:
+        exponent = 0.0
+    tol = 1e-6 * max(1.0, float(np.abs(As).max(initial=0.0)))
+    if alpha > tol and mu.max() <= 0 or (alpha > tol and beta < np.log(1e3)):
+        verdict = "asymptotically stable"
+        reason = (f"int mu(A) dt <= -alpha (t - t0) + beta on the interval with alpha = {alpha:.6g} > 0, "
+                  f"beta = {beta:.3g}: Persidsky's criterion (uniform exponential decay of the first "
+                  "approximation) holds on the interval computed")
+    elif exponent > tol:
+        verdict = "unstable"
+        reason = (f"the perturbations grow along the motion: ln|Phi(T)|/(T - t0) = {exponent:.6g} > 0 "
+                  "(the first approximation's characteristic exponent, estimated on the interval)")
+    elif exponent < -tol:
+        verdict = "asymptotically stable"
+        reason = (f"every perturbation decays along the interval: ln|Phi(T)|/(T - t0) = {exponent:.6g} < 0 "
+                  "(the logarithmic-norm bound alone does not prove it: alpha = "
+                  f"{alpha:.6g}); an estimate on the interval computed, not a proof")
+    else:
+        verdict = "critical"
+        reason = (f"perturbations neither grow nor decay on the interval (exponent {exponent:.3g}): "
+                  "the first approximation does not decide")
+    ranks = np.zeros(len(times), int)
+    W = None
+    if controls and nx:
+        bs = CubicSpline(times, Bs.reshape(len(times), -1), axis=0)
+        nu = Bs.shape[2]
+        Ls = [Bs]
+        derivs = [bs]
+        for _ in range(nx - 1):
+            prev = Ls[-1]
+            d = derivs[-1].derivative()(times).reshape(len(times), nx, nu)
+            nxt = d - np.einsum("tij,tjk->tik", As, prev)
+            Ls.append(nxt)
+            derivs.append(CubicSpline(times, nxt.reshape(len(times), -1), axis=0))
+        W = np.concatenate(Ls, axis=2)
+        for i in range(len(times)):
+            sv = np.linalg.svd(W[i], compute_uv=False)
+            ranks[i] = int(np.sum(sv > 1e-7 * sv.max())) if sv.max() > 0 else 0
+    info = analyse(As[0])
+    frozen = {"eigenvalues": [[float(z.real), float(z.imag)] for z in info["eigenvalues"]],
+              "polynomial": str(info["polynomial"]), "hurwitz": [float(h) for h in info["hurwitz"]]}
+    ign = [part.coords_I[idx] for idx in sorted(S)]
+    return ProgramLinearization(
+        model=model.name, t=times, variables=tuple(variables[i] for i in stay), A=As, B=Bs,
+        controls=tuple(controls), q={c: traj.q[:, j] for j, c in enumerate(names_q)},
+        qdot={c: traj.qd[:, j] for j, c in enumerate(names_q)}, lognorm=mu, persidsky_alpha=float(alpha),
+        exponent=exponent, controllability_rank=ranks, verdict=verdict, reason=reason, W=W,
+        ignorable=tuple(names_q[j] for j in ign),
+        dependent=tuple([names_q[j] for j in part.coords_D] + [names_v[j] for j in part.vel_D]), frozen=frozen)

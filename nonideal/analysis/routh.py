@@ -1,0 +1,185 @@
+"""Characteristic polynomial, Routh--Hurwitz conditions, verdict and Kalman controllability
+of a linear system ``x' = A x + B u`` (numeric, or symbolic in named parameters).
+
+The Hurwitz matrix of ``a0 s^n + a1 s^(n-1) + ... + an`` (``a0 > 0``) has entries
+``H_ij = a_(2j - i)`` (1-based, ``a_k = 0`` outside ``0..n``); all roots have negative real
+parts iff the minors ``Delta_1 .. Delta_n`` are positive (Hurwitz 1895), equivalently
+(Liénard & Chipart 1914) iff all ``a_k > 0`` and ``Delta_(n-1), Delta_(n-3), ... > 0`` --
+the form used for the conditions in symbolic parameters.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+import sympy as sp
+
+__all__ = ["analyse", "hurwitz_minors", "routh_hurwitz_conditions", "even_conditions", "controllability",
+           "verdict_of"]
+
+S = sp.Symbol("s")
+
+
+def _nice(x: float) -> sp.Expr:
+    """A float with 10 significant digits (integers stay integers)."""
+    if abs(x - round(x)) <= 1e-10 * max(1.0, abs(x)):
+        return sp.Integer(int(round(x)))
+    return sp.Float(float(f"{x:.10g}"), 10)
+
+
+def hurwitz_minors(coeffs: Sequence) -> list:
+    """Hurwitz minors ``Delta_1 .. Delta_n`` of the polynomial with coefficients ``a0 .. an``."""
+    a = list(coeffs)
+    n = len(a) - 1
+
+    def at(k):
+        return a[k] if 0 <= k <= n else 0
+
+    H = sp.Matrix(n, n, lambda i, j: at(2 * (j + 1) - (i + 1)))
+    return [sp.factor(sp.simplify(H[:k, :k].det())) if k else 1 for k in range(1, n + 1)]
+
+
+def routh_hurwitz_conditions(coeffs: Sequence, minors: Sequence) -> list:
+    """Liénard--Chipart conditions ``a_k > 0``, ``Delta_(n-1) > 0, Delta_(n-3) > 0, ...`` with the
+    ones that hold identically removed (a ``False`` stays: the system can never be stable)."""
+    n = len(coeffs) - 1
+    out = []
+    exprs = [sp.factor(c) for c in coeffs[1:]]
+    exprs += [minors[k - 1] for k in range(n - 1, 0, -2) if k >= 2]
+    seen = set()
+    for e in exprs:
+        rel = _positive(e)
+        if rel is sp.true:
+            continue
+        key = str(rel)
+        if key not in seen:
+            seen.add(key)
+            out.append(rel)
+    return out
+
+
+def clean_eigenvalues(eig) -> np.ndarray:
+    """Sorted (largest real part first), round-off parts (below 1e-12 of the largest) zeroed."""
+    eig = np.asarray(eig, complex)
+    if eig.size:
+        tol = 1e-12 * max(1.0, float(np.abs(eig).max()))
+        eig = np.where(np.abs(eig.real) < tol, 0.0, eig.real) + 1j * np.where(np.abs(eig.imag) < tol, 0.0, eig.imag)
+    return np.array(sorted(eig, key=lambda z: (-z.real, -z.imag)), complex)
+
+
+def verdict_of(eigenvalues: np.ndarray) -> tuple[str, str]:
+    """("asymptotically stable" | "unstable" | "critical", why) by the first approximation."""
+    if eigenvalues.size == 0:
+        return "critical", "no perturbation variables are left"
+    tol = 1e-9 * max(1.0, float(np.abs(eigenvalues).max()))
+    worst = eigenvalues[np.argmax(eigenvalues.real)]
+    text = f"{worst.real:.6g}" + (f" {'+' if worst.imag >= 0 else '-'} {abs(worst.imag):.6g}i" if abs(worst.imag) > tol else "")
+    if worst.real > tol:
+        return "unstable", (f"the eigenvalue {text} has a positive real part: unstable by the "
+                            "first approximation (Lyapunov)")
+    if worst.real < -tol:
+        return "asymptotically stable", (f"every eigenvalue has a negative real part (the largest is {text}); "
+                                         "the Hurwitz minors are positive: asymptotically stable by the "
+                                         "first approximation (Lyapunov)")
+    on_axis = int(np.sum(np.abs(eigenvalues.real) <= tol))
+    return "critical", (f"{on_axis} eigenvalue(s) on the imaginary axis and none to the right: Lyapunov's "
+                        "critical case, the first approximation does not decide (a conservative "
+                        "system at a potential minimum is stable by Lagrange--Dirichlet)")
+
+
+def analyse(A: np.ndarray, A_symbolic: sp.Matrix | None = None, symbolic: Sequence[str] = ()) -> dict:
+    """Eigenvalues, characteristic polynomial (in ``s``), Hurwitz minors, conditions, verdict."""
+    A = np.asarray(A, float)
+    eig = np.linalg.eigvals(A) if A.size else np.zeros(0, complex)
+    eig = clean_eigenvalues(eig)
+    if A_symbolic is not None and A_symbolic.rows:
+        poly = sp.Poly(A_symbolic.charpoly(S).as_expr(), S)
+        coeffs = [sp.factor(sp.simplify(c)) for c in poly.all_coeffs()]
+    elif A.size:
+        coeffs = [_nice(c) for c in np.real(np.poly(A))]
+    else:
+        coeffs = [sp.Integer(1)]
+    polynomial = sum((c * S ** (len(coeffs) - 1 - i) for i, c in enumerate(coeffs)), sp.Integer(0))
+    coeffs = [_integral_floats(c) for c in coeffs]
+    polynomial = _integral_floats(polynomial)
+    minors = hurwitz_minors(coeffs) if len(coeffs) > 1 else []
+    even = len(coeffs) > 1 and all(sp.simplify(c) == 0 for c in coeffs[1::2])
+    if A_symbolic is None:
+        conditions = []
+    elif even:
+        conditions = even_conditions(coeffs)
+    else:
+        conditions = routh_hurwitz_conditions(coeffs, minors)
+    conditions = [_integral_floats(c) for c in conditions]
+    verdict, reason = verdict_of(eig)
+    if even and verdict == "critical":
+        reason += ("; the polynomial is even in s (no dissipation): the roots are on the imaginary "
+                   "axis iff the roots of P(z = s^2) are real and negative (gyroscopic stability, "
+                   "Kelvin--Chetaev)")
+    meaning = ("" if A_symbolic is None else
+               "roots on the imaginary axis, simple (no dissipation: P(s) = Z(s^2), the "
+               "roots of Z real, negative, distinct)" if even else "asymptotic stability (Lienard--Chipart)")
+    return {"eigenvalues": eig, "polynomial": polynomial, "coefficients": coeffs, "hurwitz": minors,
+            "conditions": conditions, "conditions_meaning": meaning, "verdict": verdict, "reason": reason}
+
+
+def _positive(expr) -> sp.Basic:
+    """``expr > 0`` with the factors that cannot change its sign dropped: positive numbers and
+    even powers (a condition ``x^2 > 0`` only excludes ``x = 0``).  ``True``/``False`` when
+    nothing is left."""
+    expr = sp.factor(sp.sympify(expr))
+    if not expr.free_symbols:
+        return sp.sympify(bool(expr > 0))
+    sign, keep = 1, []
+    for f in sp.Mul.make_args(expr):
+        base, exp = f.as_base_exp()
+        if f.is_number:
+            sign *= 1 if f > 0 else -1
+        elif exp.is_Integer and int(exp) % 2 == 0:
+            continue
+        else:
+            keep.append(f)
+    if not keep:
+        return sp.sympify(sign > 0)
+    rest = sp.Mul(*keep)
+    return sp.simplify(rest > 0) if sign > 0 else sp.simplify(rest < 0)
+
+
+def _integral_floats(e):
+    """Floats with integer values (1.0) written as integers."""
+    e = sp.sympify(e)
+    return e.xreplace({f: sp.Integer(int(f)) for f in e.atoms(sp.Float) if float(f).is_integer()})
+
+
+def even_conditions(coeffs: Sequence) -> list:
+    """For ``P(s) = Z(s^2)`` (no odd powers): every root on the imaginary axis and simple iff the
+    roots of ``Z(z)`` are real, negative and distinct: the coefficients of ``Z`` positive and
+    (degree 2) its discriminant positive -- Maievski's condition for the sleeping top."""
+    z = list(coeffs[::2])
+    out = []
+    for c in z[1:]:
+        rel = _positive(c)
+        if rel is not sp.true:
+            out.append(rel)
+    if len(z) == 3:
+        rel = _positive(sp.expand(z[1] ** 2 - 4 * z[0] * z[2]))
+        if rel is not sp.true:
+            out.append(rel)
+    return out
+
+
+def controllability(A: np.ndarray, B: np.ndarray) -> dict:
+    """Kalman's rank of ``[B, AB, ..., A^(n-1) B]``: ``{"rank", "n"}``."""
+    A, B = np.asarray(A, float), np.asarray(B, float)
+    n = A.shape[0]
+    if n == 0 or B.size == 0:
+        return {"rank": 0, "n": n}
+    blocks, cur = [], B
+    for _ in range(n):
+        blocks.append(cur)
+        cur = A @ cur
+    W = np.hstack(blocks)
+    sv = np.linalg.svd(W, compute_uv=False)
+    rank = int(np.sum(sv > 1e-9 * sv.max())) if sv.size and sv.max() > 0 else 0
+    return {"rank": rank, "n": n}

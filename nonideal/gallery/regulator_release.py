@@ -1,0 +1,112 @@
+"""Manglieva & Beknazarov 2022, sec. 3.2, (3.23)-(3.37): Chetaev's parametric release of the
+friction speed regulator, the controllability matrix W(t) and optimal stabilization.
+
+Model.  Releasing the servo-constraint omega2 = omega0 (Chetaev's parametric release, (3.23)):
+shaft 2 turns freely, omega2 = omega0 + zeta (3.24); the intermediate wheel (mass m, position
+rho) is driven by the programmed force u(t) and a stabilizing control u1; the wheels roll
+without slipping (R phi1' = rho phi2', r phi' = rho phi2', nonholonomic).  Appell's equation of
+shaft 2 from the acceleration energy (3.25), with n = J1/R^2 + J/r^2 and D = n rho^2 + J2:
+
+    D zeta' + n rho rho' (omega0 + zeta) = M2 + rho M1/R,      m rho'' = u + u1      (3.26)
+
+(printed without the factor rho in the second term of (3.26); (3.27) has it).  With M1 = 0
+the programme zeta = 0 is explicit: rho0 rho0' = a = M2/(n omega0), rho0(t) =
+sqrt(rho_i^2 + 2 a t), u(t) = m rho0'' = -m a^2/rho0^3.  First approximation in
+(rho', zeta, z = rho'_dot) (derived; (3.28)-(3.29), where J3 is a misprint for J2):
+
+    rho'_dot = z,   D zeta_dot = -n rho0 rho0' zeta - n rho0 omega0 z - n omega0 rho0' rho',
+    m z_dot = u1.
+
+Controllability (Krasovskii; (3.30)-(3.31)): W = [L1, L2, L3], L1 = B = (0, 0, 1/m),
+L(i+1) = dLi/dt - A Li, gives (derived)
+
+    W = [[0, -1/m, 0], [0, n rho0 omega0/(m D), -n^2 omega0 rho0^2 rho0'/(m D^2)], [1/m, 0, 0]],
+
+full rank exactly while rho0' != 0 (M2 != 0) -- the structure of the printed (3.32), whose
+entries are normalized differently.  Optimal stabilization (3.33)-(3.37): the cost
+int (zeta^2 + rho'^2 + z^2 + u1^2) dt, V = x^T P(t) x with P from the differential Riccati
+equation, u1 = -B^T P x.  The printed (3.35) omits the cross term zeta rho' whose coefficient
+C13 appears in (3.36), and (3.36) has further index and sign misprints; the library integrates
+the Riccati equation itself (``program_lqr``).
+
+run() checks the programme against the closed form, A(t) and W(t) against the formulas above,
+and that the optimal feedback turns the growing perturbations of the open loop into decaying
+ones (the characteristic exponents of the fundamental matrices).
+
+    nonideal stability regulator-release --about program --controls u1
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..modeling.model import Constraint, Model
+
+NAME = "regulator-release"
+ORDER = 206
+TITLE = "Friction speed regulator, parametric release: W(t) (3.30)-(3.32) and optimal stabilization (3.33)-(3.37)"
+FILE = "regulator_release.toml"
+
+DEFAULTS = {"m": 0.5, "J1": 0.02, "J": 0.01, "J2": 0.05, "R": 0.1, "r": 0.05, "omega0": 20.0, "M2": 0.5,
+            "rho_i": 0.05, "u1": 0.0}
+
+
+def build(**overrides) -> Model:
+    """The released regulator with the Python API (same as the model file for the defaults)."""
+    p = {**DEFAULTS, **overrides, "n": "J1/R^2 + J/r^2", "a": "M2/(n*omega0)"}
+    return Model(
+        name="friction speed regulator, parametric release (Manglieva & Beknazarov 2022, sec. 3.2)",
+        coordinates=["phi1", "phi", "phi2", "rho"], parameters=p,
+        kinetic="J1*phi1'^2/2 + J*phi'^2/2 + J2*phi2'^2/2 + m*rho'^2/2",
+        forces={"phi2": "M2", "rho": "-m*a^2/(rho_i^2 + 2*a*t)^(3/2) + u1"},
+        constraints=[Constraint.nonholonomic("roll_1", "R*phi1' - rho*phi2'"),
+                     Constraint.nonholonomic("roll_wheel", "r*phi' - rho*phi2'")],
+        initial={"phi1": 0.0, "phi": 0.0, "phi2": 0.0, "rho": "rho_i", "phi2'": "omega0", "rho'": "a/rho_i"},
+        independent=["phi2", "rho"], simulation={"t_end": 1.0})
+
+
+def closed_forms(t, p=DEFAULTS):
+    """rho0, rho0', A(t), W(t) of the docstring at the times *t*."""
+    n = p["J1"] / p["R"] ** 2 + p["J"] / p["r"] ** 2
+    a = p["M2"] / (n * p["omega0"])
+    w, m = p["omega0"], p["m"]
+    rho = np.sqrt(p["rho_i"] ** 2 + 2 * a * np.asarray(t))
+    rd = a / rho
+    D = n * rho ** 2 + p["J2"]
+    A = np.zeros((len(rho), 3, 3))
+    A[:, 0, 2] = 1.0
+    A[:, 1, 0], A[:, 1, 1], A[:, 1, 2] = -n * w * rd / D, -n * rho * rd / D, -n * rho * w / D
+    W = np.zeros((len(rho), 3, 3))
+    W[:, 2, 0], W[:, 0, 1], W[:, 1, 1] = 1 / m, -1 / m, n * rho * w / (m * D)
+    W[:, 1, 2] = -n ** 2 * w * rho ** 2 * rd / (m * D ** 2)
+    return rho, rd, A, W
+
+
+def run(verbose: bool = True) -> dict:
+    from ..analysis.control import program_lqr
+    from ..analysis.program import linearize_program
+    from . import load
+
+    prog = linearize_program(load(NAME), controls=["u1"], samples=161)
+    rho, rd, A_ref, W_ref = closed_forms(prog.t)
+    prog_err = max(float(np.max(np.abs(prog.q["rho"] - rho))), float(np.max(np.abs(prog.qdot["phi2"] - 20.0))))
+    A_err = float(np.max(np.abs(prog.A - A_ref)) / np.max(np.abs(A_ref)))
+    inner = slice(10, -10)           # W from splines: their derivatives are least accurate at the ends
+    W_err = float(np.max(np.abs(prog.W[inner] - W_ref[inner]) / np.max(np.abs(W_ref[inner]), axis=(1, 2))[:, None, None]))
+    reg = program_lqr(prog)
+    P_pd = bool(all(np.linalg.eigvalsh(P).min() > 0 for P in reg.P[:-1]))
+    ok = (prog_err < 1e-8 and A_err < 1e-8 and W_err < 1e-3 and np.all(prog.controllability_rank == 3)
+          and prog.variables == ("rho", "phi2'", "rho'") and reg.exponent_open > 0 > reg.exponent_closed and P_pd)
+    out = {"programme_error": prog_err, "A_relative_error": A_err, "W_relative_error": W_err,
+           "controllability_rank": int(prog.controllability_rank.min()), "exponent_open": reg.exponent_open,
+           "exponent_closed": reg.exponent_closed, "K_t0": reg.K[0].tolist(), "P_positive_definite": P_pd,
+           "ok": bool(ok)}
+    if verbose:
+        print(TITLE)
+        print(f"  programme rho0 = sqrt(rho_i^2 + 2 a t), zeta = 0: max error {prog_err:.1e}")
+        print(f"  A(t) vs the corrected (3.29): {A_err:.1e}; W(t) vs the derived (3.32): {W_err:.1e}; "
+              f"rank W = {out['controllability_rank']}")
+        print(f"  optimal stabilization: K(t0) = {np.array2string(reg.K[0], precision=4)}; exponents "
+              f"open {reg.exponent_open:.4g}, closed {reg.exponent_closed:.4g}; P(t) > 0: {P_pd}")
+        print(f"  ok: {ok}")
+    return out

@@ -1,0 +1,33 @@
+"""Manglieva & Beknazarov 2022, sec. 3.2: the released regulator along its programme -- A(t)
+against the corrected (3.29), the controllability matrix W(t) (3.30)-(3.32) against its
+derivation, and optimal stabilization by the differential Riccati equation (3.33)-(3.37)."""
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from nonideal import gallery
+from nonideal.analysis.control import program_lqr
+from nonideal.analysis.program import linearize_program
+
+MOD = gallery.module("regulator-release")
+
+
+def test_A_W_and_optimal_stabilization_along_the_programme():
+    prog = linearize_program(gallery.load("regulator-release"), controls=["u1"], samples=81)
+    rho, rd, A_ref, W_ref = MOD.closed_forms(prog.t)
+    assert prog.variables == ("rho", "phi2'", "rho'") and set(prog.ignorable) == {"phi1", "phi", "phi2"}
+    assert np.max(np.abs(prog.q["rho"] - rho)) < 1e-8 and np.max(np.abs(prog.qdot["phi2"] - 20.0)) < 1e-8
+    assert np.max(np.abs(prog.A - A_ref)) < 1e-8 * np.max(np.abs(A_ref))
+    inner = slice(8, -8)
+    scale = np.max(np.abs(W_ref[inner]))
+    assert np.max(np.abs(prog.W[inner] - W_ref[inner])) < 1e-4 * scale
+    assert np.all(prog.controllability_rank == 3)
+    reg = program_lqr(prog)
+    # P solves the differential Riccati equation: check with its spline derivative inside
+    dP = CubicSpline(reg.t, reg.P, axis=0).derivative()(reg.t)
+    for k in range(10, len(reg.t) - 10, 10):
+        A, B, P = prog.A[k], prog.B[k], reg.P[k]
+        res = dP[k] + A.T @ P + P @ A - P @ B @ B.T @ P + np.eye(3)
+        terms = np.max(np.abs(A.T @ P)) + np.max(np.abs(P @ B @ B.T @ P)) + 1.0
+        assert np.max(np.abs(res)) < 1e-4 * terms
+    assert reg.exponent_open > 1.0 and reg.exponent_closed < 0
