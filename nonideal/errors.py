@@ -33,6 +33,24 @@ __all__ = [
 ]
 
 
+def short_repr(value, width: int = 60) -> str:
+    """``repr(value)`` cut to *width* characters for a message; a long number keeps its
+    first and last digits and says how many it has (a 1201-digit integer is not printed
+    whole).
+
+    Examples
+    --------
+    >>> short_repr(10**100)
+    '100000000000...000000 (101 digits)'
+    """
+    text = repr(value)
+    if len(text) <= width:
+        return text
+    if text.lstrip("-").isdigit():
+        return f"{text[:12]}...{text[-6:]} ({len(text.lstrip('-'))} digits)"
+    return text[:width - 3] + "..."
+
+
 def did_you_mean(name: str, candidates: Iterable[str]) -> str:
     """Return ``" (did you mean 'x'?)"`` when *name* is close to one of *candidates*."""
     candidates = [str(c) for c in candidates]
@@ -202,6 +220,11 @@ class PainleveParadox(MechanicsError):
 
 class IndeterminateSystem(MechanicsError):
     """A servo system with fewer/more program constraints than control unknowns."""
+
+
+class SingularMotion(MechanicsError):
+    """Along the motion the active constraints became dependent, or one lost its gradient:
+    the multipliers pass through a pole and the continuation is not determined."""
 
 
 class NotAnEquilibrium(ModelError):

@@ -8,9 +8,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from ..equations.eom import EquationsOfMotion
-from ..equations.formalisms import derive as derive_symbolic
+from ..equations.formalisms import FORMS, derive as derive_symbolic
 from ..equations.dynamics import ConstraintRow
 from ..errors import ModelError
+from ..modeling.arguments import require_form, require_model
 from ..modeling.model import Model
 from ..modes.routes import route_for
 from ..numeric.consistency import initial_branch
@@ -54,6 +55,8 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
     >>> derive(gallery.load("chaplygin-sleigh"), "maggi").unknowns
     ("x''", "theta''")
     """
+    require_model(model, "derive")
+    require_form(form, "derive", FORMS)
     if friction not in ("physical", "painleve"):
         raise ModelError(f"friction: {friction!r} unknown; use \"physical\" or \"painleve\"")
     if rows is not None:

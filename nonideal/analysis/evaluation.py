@@ -25,7 +25,9 @@ import numpy as np
 
 from ..numeric.consistency import complete_state
 from ..errors import ModelError, did_you_mean
-from ..modeling.expressions import parse_expression
+from ..equations.formalisms import FORMS
+from ..modeling.arguments import real_number, require_form, require_mapping, require_model
+from ..modeling.expressions import float_value, parse_expression
 from ..modeling.model import Model
 from ..modes.solver import ModeSolver
 from ..numeric.kernel import kernel_of, parameter_vector
@@ -149,7 +151,7 @@ def parse_state(model: Model, text: str | None) -> dict[str, float]:
         if key not in allowed:
             raise ModelError(f"--at: '{key}' is not a coordinate or velocity{did_you_mean(key, allowed)}")
         expr = parse_expression(val.strip(), names, f"--at {key}")
-        out[key] = float(expr.subs(values))
+        out[key] = float_value(expr, f"--at {key}", {s.name: float(v) for s, v in values.items()})
     return out
 
 
@@ -250,6 +252,11 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     """
     from ..modes.switching import select_mode, validate_state
 
+    require_model(model, "evaluate")
+    require_mapping(at, "evaluate", "at", "{'x': 0.1, \"x'\": 1.0}")
+    require_mapping(parameters, "evaluate", "parameters", "{'m': 2.0}")
+    require_form(form, "evaluate", [*FORMS, "gauss"])
+    t = real_number(t, "evaluate", "t")
     allowed = set(model.coordinates) | {c + "'" for c in model.coordinates}
     bad = [k for k in (at or {}) if k not in allowed]
     if bad:

@@ -5,7 +5,8 @@ One module per command, each with ``add_parser(subparsers, ctx)`` and ``run(args
 module and add its name here.
 
 Exit codes: 0 success; 2 bad input (the message names the file, the key and the fix);
-3 the mechanics has no consistent or no unique answer.  Nothing is written to an output path
+3 the mechanics has no consistent or no unique answer; 130 / 143 stopped by Ctrl-C / SIGTERM
+(:mod:`nonideal.cli.terminal`).  Nothing is written to an output path
 unless the run succeeded (:mod:`nonideal.cli.outputs`).
 """
 
@@ -78,6 +79,7 @@ def _bare_json(argv: list[str]) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     from .common import numerical_warnings
+    from .terminal import Terminated, printable, signals, stopped
 
     parser = build_parser()
     try:
@@ -85,21 +87,25 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:   # --help (0) or a usage error (2): return, do not exit
         return int(exc.code or 0)
     try:
-        with numerical_warnings():
+        with signals(), numerical_warnings():
             return args.func(args)
     except ModelError as exc:
         model = getattr(args, "model", None)
         if (exc.source is None and isinstance(model, str) and Path(model).is_file()
                 and not all(str(pr).startswith("--") for pr in exc.problems)):
             exc = exc.with_source(model)  # an error found past the file's parsing names it too
-        print(f"error: {exc}", file=sys.stderr)
+        print(printable(f"error: {exc}"), file=sys.stderr)
         return exc.exit_code
     except MechanicsError as exc:
-        print(f"mechanics: {exc}", file=sys.stderr)
+        print(printable(f"mechanics: {exc}"), file=sys.stderr)
         return exc.exit_code
     except NonidealError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(printable(f"error: {exc}"), file=sys.stderr)
         return exc.exit_code
+    except KeyboardInterrupt:
+        return stopped("interrupted")
+    except Terminated:
+        return stopped("terminated")
     except BrokenPipeError:  # pragma: no cover
         return 0
 

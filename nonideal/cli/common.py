@@ -147,7 +147,7 @@ def parse_at(model, text: str | None) -> dict[str, float]:
     import sympy as sp
 
     from ..errors import ExpressionError
-    from ..modeling.expressions import parse_expression
+    from ..modeling.expressions import float_value, parse_expression
 
     allowed = list(model.coordinates) + [c + "'" for c in model.coordinates]
     names = {n: sp.Symbol(n) for n in model.parameters}
@@ -183,7 +183,10 @@ def parse_at(model, text: str | None) -> dict[str, float]:
         except ExpressionError as exc:
             problems.extend(exc.problems)
             continue
-        out[key] = float(expr.subs(values))
+        try:
+            out[key] = float_value(expr, f"--at {key}", {s.name: float(v) for s, v in values.items()})
+        except ExpressionError as exc:
+            problems.extend(exc.problems)
     if problems:
         raise ModelError(problems)
     return out

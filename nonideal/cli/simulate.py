@@ -108,8 +108,10 @@ def run(args) -> int:
                   f"{c}'(t_end) = {number(traj.qd[-1, k], sv, 12, True)}")
         shown = traj.events if len(traj.events) <= 24 else traj.events[:20]
         for e in shown:
+            zeno = (f" (accumulation of impacts, geometric ratio {e['ratio']:.6g}, after "
+                    f"{e['impacts']} impacts: the rest of the series skipped)") if e["type"] == "zeno" else ""
             print(f"  event at t = {e['t']:.12g}: {e['type']} {e.get('constraint', e.get('contact', ''))}"
-                  f" -> mode [{e.get('mode', '')}]")
+                  f" -> mode [{e.get('mode', '')}]{zeno}")
         if len(shown) < len(traj.events):
             last = traj.events[-1]
             print(f"  ... {len(traj.events) - len(shown)} more events, the last at t = {last['t']:.12g} "

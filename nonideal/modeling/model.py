@@ -39,7 +39,8 @@ from .symbols import coordinate_symbols, t
 
 from .declarations import RESERVED_NAMES, Constraint, Parameter, SimulationSettings
 from .normalize import Normalizer
-from .values import parameter_values, resolve_parameters, to_expr
+from .expressions import float_value
+from .values import resolve_parameters, to_expr
 
 __all__ = ["Parameter", "Constraint", "SimulationSettings", "Model", "RESERVED_NAMES",
            "resolve_parameters"]
@@ -201,8 +202,8 @@ class Model:
         model is immutable)."""
         cached = self.__dict__.get("_numeric_initial")
         if cached is None:
-            values = parameter_values(self.parameters)
-            cached = {key: float(sp.sympify(expr).xreplace(values)) for key, expr in self.initial.items()}
+            values = {n: float(p.value) for n, p in self.parameters.items()}
+            cached = {key: float_value(expr, f"[initial] {key}", values) for key, expr in self.initial.items()}
             self.__dict__["_numeric_initial"] = cached
         return dict(cached)
 

@@ -34,8 +34,9 @@ import sympy as sp
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
-from ..errors import ModelError, did_you_mean
-from .expressions import parse_expression
+from ..errors import ModelError, did_you_mean, short_repr
+from .expressions import float_value, parse_expression
+from .limits import check_size, read_text
 from .model import Constraint, Model, resolve_parameters
 
 __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
@@ -93,24 +94,13 @@ def load_model(path: str | Path, parameters: Mapping[str, Any] | None = None) ->
     """
     path = Path(path)
     source = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ModelError(f"model file not found: {source}; check the path (relative paths are "
-                         f"taken from the current directory, {Path.cwd()})") from None
-    except IsADirectoryError:
-        raise ModelError("is a directory, not a model file; give the path of a .toml file",
-                         source) from None
-    except UnicodeDecodeError as exc:
-        raise ModelError(f"cannot read the model file: not UTF-8 text ({exc.reason} at byte "
-                         f"{exc.start}); save it as UTF-8", source) from None
-    except OSError as exc:
-        raise ModelError(f"cannot read the model file: {exc.strerror or exc}", source) from None
+    text = read_text(path)
     text = text.removeprefix("\ufeff")  # a byte-order mark some editors write
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(_toml_problem(str(exc), text), source) from None
+    check_size(data, source)
     if parameters:
         data = override_parameters(data, parameters, source)
     return model_from_dict(data, source, default_name=path.stem)
@@ -228,7 +218,7 @@ class _Checker:
                                         f"{where}: {key}")
                 if any(s.name not in self.parameters for s in expr.free_symbols):
                     return default   # a parameter without a value: reported with the parameters
-                value = float(expr.xreplace({sp.Symbol(n): sp.Float(v) for n, v in self.parameters.items()}))
+                value = float_value(expr, f"{where}: {key}", self.parameters)
             except ModelError as exc:
                 self.problems += exc.problems
                 return default
@@ -310,6 +300,9 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     whenever the coordinates are usable, those the :class:`Model` finds in the expressions
     (unknown symbols, malformed expressions, missing parameters), in one :class:`ModelError`.
     """
+    if not isinstance(data, dict):
+        raise ModelError(f"model_from_dict: data must be a dict (the parsed TOML of a model file), "
+                         f"got {type(data).__name__} {short_repr(data, 40)}", source)
     problems: list[str] = []
     check = _Checker(problems)
     problems += _unknown(data, TOP_KEYS, "top level")

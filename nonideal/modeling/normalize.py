@@ -4,7 +4,6 @@ them all).  Called once, by ``Model.__post_init__``."""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import replace
 from typing import Any
@@ -18,7 +17,7 @@ from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
-from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr
+from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
 
 __all__ = ["Normalizer"]
 
@@ -547,9 +546,8 @@ class Normalizer:
             if e.free_symbols - set(names.values()):
                 self.problems.append(f"{where}: initial values may use parameters only")
                 continue
-            val = e.xreplace(values)
-            if not val.is_real or not math.isfinite(float(val)):
-                self.problems.append(f"{where}: value is not a finite real number")
+            if bad := value_problems(e, where, values):  # a finite real number, in floating point
+                self.problems.extend(bad)
                 continue
             out[key] = e
         self.set("initial", out)

@@ -5,7 +5,6 @@ parameters are expressions in the others)."""
 
 from __future__ import annotations
 
-import math
 import numbers
 import random
 from collections.abc import Iterable, Mapping
@@ -16,8 +15,8 @@ import symengine as se
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from ..errors import ExpressionError, did_you_mean
-from .expressions import parse_expression
+from ..errors import ExpressionError, did_you_mean, short_repr
+from .expressions import float_value, parse_expression
 from .symbols import t
 
 from .declarations import Parameter
@@ -105,11 +104,14 @@ def resolve_parameters(raw: Mapping[str, Any]) -> tuple[dict[str, float], list[s
                 pending[name] = parse_expression(value, symbols, where)
             except ExpressionError as exc:
                 problems += [p.replace("unknown symbol", "unknown parameter", 1) for p in exc.problems]
-        elif isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+        elif isinstance(value, bool) or not isinstance(value, numbers.Real):
             problems.append(f"{where}: value must be a finite number or an expression in the other "
-                            f"parameters, in quotes (got {value!r})")
+                            f"parameters, in quotes (got {short_repr(value)})")
         else:
-            values[name] = float(value)
+            try:
+                values[name] = float_value(value, where)
+            except ExpressionError as exc:
+                problems += exc.problems
     while pending:
         ready = {n: e for n, e in pending.items() if all(s.name in values for s in e.free_symbols)}
         if not ready:
@@ -127,12 +129,10 @@ def resolve_parameters(raw: Mapping[str, Any]) -> tuple[dict[str, float], list[s
             break
         for name, expr in ready.items():
             del pending[name]
-            v = complex(expr.xreplace({sp.Symbol(k): sp.Float(x) for k, x in values.items()}).evalf())
-            if abs(v.imag) > 1e-12 * max(1.0, abs(v.real)) or not math.isfinite(v.real):
-                problems.append(f"[parameters] {name}: the expression {expr} has no finite real "
-                                f"value ({v}); check its domain (sqrt, log, acos ...)")
-                continue
-            values[name] = float(v.real)
+            try:  # in floating point: exact arithmetic has no bound on its cost
+                values[name] = float_value(expr, f"[parameters] {name}", values, raw[name])
+            except ExpressionError as exc:
+                problems += exc.problems
     return values, problems
 
 
@@ -162,3 +162,14 @@ def identically_zero(expr: sp.Expr) -> bool:
         if not abs(value) <= 1e-12:
             return False
     return True
+
+
+def value_problems(expr: sp.Expr, where: str, values: Mapping[sp.Symbol, Any]) -> list[str]:
+    """The problems of the number *expr* gives with the parameter *values* (``{symbol:
+    value}``), computed in floating point (:func:`~.expressions.float_value`); ``[]`` when it
+    is a finite real number."""
+    try:
+        float_value(expr, where, {s.name: float(v) for s, v in values.items()})
+    except ExpressionError as exc:
+        return exc.problems
+    return []

@@ -89,6 +89,8 @@ class Event:
     row: int
     #: whether the mode that the event ends must be excluded from the next selection
     excludes_current = False
+    #: whether its value is kinematic (no solve of the mode: cheap to probe inside a step)
+    kinematic = False
 
     def value(self, motion) -> float:
         raise NotImplementedError
@@ -115,6 +117,8 @@ class Release(Event):
 class Touch(Event):
     """A released unilateral constraint closes (``f`` reaches zero)."""
 
+    kinematic = True
+
     def value(self, motion) -> float:
         return float(motion.observables["pos"][self.row])
 
@@ -132,6 +136,8 @@ class ContactEvent(Event):
 @dataclass(frozen=True)
 class ContactTouch(ContactEvent):
     """A separated contact closes: the gap reaches zero."""
+
+    kinematic = True
 
     def value(self, motion) -> float:
         return motion.gap(self.row)
@@ -166,6 +172,7 @@ class SlipStop(ContactEvent):
     sliding direction (one component) or the slip direction at the start of the step (two)."""
 
     direction: float = 1.0
+    kinematic = True
 
     def outcome(self, before, after) -> str:
         """``stick``, or ``reverse`` when the contact goes on sliding (with two components the

@@ -24,19 +24,21 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
-from scipy.optimize import brentq
 
 from ..numeric.consistency import complete_state, project_state
-from ..errors import IntegrationFailed, MechanicsError, ModelError, PainleveParadox
+from ..errors import IntegrationFailed, ModelError, PainleveParadox
 from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, transition
 from ..modeling.model import Model
 from ..modes.system import Motion
 from ..modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
 from ..modes.solver import ModeSolver
-from ..modes.diagnosis import weakest_reactions
 from ..numeric.kernel import SingularMatrix, kernel_of, max_abs, parameter_vector
 from ..modes.switching import effective_compliance, impact, select_mode, validate_state
+from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times
+from .guards import Step, event_hits
+from .singular import Regularity, mass_stall, servo_stall
 from .trajectory import Sample, Trajectory
+from .zeno import Accumulation, ImpactSeries
 
 __all__ = ["simulate", "Simulation"]
 
@@ -81,7 +83,8 @@ class Simulation:
                  parameters: Mapping[str, float] | None = None, rtol: float | None = None,
                  atol: float | None = None, method: str | None = None,
                  max_step: float | None = None, independent=None, max_events: int = 10_000,
-                 detect_jam: bool = True, specialize: bool = True):
+                 detect_jam: bool = True, specialize: bool = True,
+                 max_samples: int | None = MAX_SAMPLES):
         self.model = model
         self.kernel = kernel_of(model)
         self.params = parameter_vector(model, parameters)
@@ -94,6 +97,7 @@ class Simulation:
             raise ModelError(f"--method: unknown integrator '{self.method}'; choose one of {', '.join(SOLVERS)}")
         self.max_step = max_step if max_step is not None else (sim.max_step or np.inf)
         self.max_events = max_events
+        self.max_samples = max_samples
         self.detect_jam = detect_jam
         k = self.kernel
         self.contacts = bool(self.solver.ck)
@@ -275,6 +279,21 @@ class Simulation:
         record["mode"] = new.label()
         return y, new, record
 
+    def _accumulate(self, limit: Accumulation, y: np.ndarray, mode: Mode, ev: Event):
+        """Jump over the rest of a geometric series of impacts (:mod:`nonideal.zeno`) to its
+        limit: the impact law applied at the extrapolated state, the mode selected there; the
+        energy of the skipped flights and impacts is counted in the impact work."""
+        n = self.n
+        after = y.copy()
+        after[:n], after[n:2 * n] = limit.q, limit.qd
+        if self.track:
+            after[2 * n + 4] += (self._energy(limit.t, limit.q, limit.qd)
+                                 - self._energy(limit.last, y[:n], y[n:2 * n]))
+        after, new, record = self._switch(limit.t, after, mode, ev)
+        record.update(type="zeno", impacts=limit.impacts, ratio=limit.ratio,
+                      last_impact=limit.last, mode=new.label())
+        return after, new, record
+
     def _project(self, mode: Mode, t, q, qd):
         """Project onto the constraint rows of *mode* (constraints, closed gaps, stick rows)."""
         rows = self.solver.rows(mode)
@@ -395,6 +414,7 @@ class Simulation:
                                  f"(got {', '.join(f'{v:g}' for v in times)})")
             if times.size and times[0] < t0:
                 raise ModelError(f"--times: {times[0]} is before t0 = {t0}")
+            check_times(times)
         if t_end is None:
             if times is not None and times.size:
                 t_end = float(times[-1])
@@ -412,12 +432,13 @@ class Simulation:
         q0, qd0 = self._project(mode, t0, q0, qd0)
         y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))
         atol = self._work_tolerances() if self.track else self.atol
-        samples: list[Sample] = []
+        samples = SampleBuffer(self.max_samples)  # bounded: thinned past max_samples steps
+        budget = StepBudget(t0, t_end, None if model.source == "<api>" else model.source)
         events_log: list[dict] = []
         next_time = 0
 
-        def emit(t, yy, md, motion=None):
-            samples.append(Sample(float(t), np.array(yy, dtype=float), md, motion))
+        def emit(t, yy, md, motion=None, step=False):
+            samples.add(Sample(float(t), np.array(yy, dtype=float), md, motion), step)
 
         # the state at the start of a phase is sampled at the top of the loop, with its motion
         pending = times is None or bool(times.size and abs(times[0] - t0) <= 1e-14 * max(1, abs(t0)))
@@ -431,6 +452,8 @@ class Simulation:
         residual_max = {"position": 0.0, "velocity": 0.0}
         Solver = SOLVERS[self.method]
         solver = self.solver
+        series = ImpactSeries()
+        regularity = Regularity(self.kernel)
         changes = solver.charts.changes if solver.charts is not None else 0
         while t < t_end:
             fun = self.rhs(mode)
@@ -446,6 +469,8 @@ class Simulation:
             solver.set_references(mode, motion)
             ode = Solver(fun, t, y, t_end, **kwargs)
             g_prev = [ev.value(motion) for ev in events]
+            watched = regularity.rows(solver.rows(mode))
+            regularity.start(motion, watched)
             tols = [self._tolerance(ev, motion) for ev in events]
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
             restart = False
@@ -459,43 +484,30 @@ class Simulation:
                 if solver.charts is not None:  # Lagrange II: change charts at accepted states
                     solver.charts.settle(mode, t_new, ode.y[:n], ode.y[n:2 * n])
                 h = t_new - t_old
-                tiny = tiny + 1 if h < 1e-9 * max(t_end - t0, 1e-300) else 0
+                budget.step(t_new)  # refuses a run that cannot finish
+                tiny = tiny + 1 if h < 1e-9 * min(t_end - t0, 1.0) + 4e-16 * abs(t_new) else 0
                 if tiny > 2000:
                     self._explain_failure(ode, mode)
                     raise IntegrationFailed(
-                        t_new, mode.label(), "the step size collapsed below 1e-9 of the time span for "
+                        t_new, mode.label(), "the step size collapsed below 1e-9 of the time span (or of 1) for "
                         "2000 steps: the right-hand side is not smooth here (a nonlinear constraint at "
                         "a singular point, or a friction law without a sticking mode at zero slip)",
                         None if model.source == "<api>" else model.source)
                 # the integrator's last evaluation was at (t_new, ode.y): the motion reuses it
                 motion = Motion(solver, mode, t_new, ode.y)
                 g_new = [ev.value(motion) for ev in events]
-                hits = []
-                dense = None
-                for k, ev in enumerate(events):
-                    if armed[k] and g_prev[k] > 0 >= g_new[k]:
-                        shift = 0.0
-                    elif not armed[k] and g_new[k] < -tols[k]:
-                        shift = tols[k] / 2
-                    else:
-                        continue
-                    dense = dense or ode.dense_output()
-
-                    def g(s, ev=ev, shift=shift):
-                        return ev.value(Motion(solver, mode, s, dense(s))) + shift
-                    a, b = t_old, t_new
-                    if g(a) <= 0:
-                        te = a
-                    else:
-                        te = brentq(g, a, b, xtol=1e-15 * max(1.0, abs(b)), rtol=8.9e-16, maxiter=200)
-                    hits.append((te, k))
+                step = Step(solver, mode, ode, motion)
+                hits = event_hits(step, events, armed, tols, g_prev, g_new)
+                singular = regularity.crossing(step, watched) if watched else None
+                if singular is not None and (not hits or singular <= min(hits)[0]):
+                    regularity.stop(self.model, step.motion(singular), watched)
                 if hits:
                     te, k = min(hits)
-                    ye = dense(te)
+                    ye = step.state(te)
                     if times is None:
                         emit(te, ye, mode)  # the state at the event, before the switch
                     else:
-                        next_time = self._sample_dense(dense, t_old, te, times, next_time, mode, emit)
+                        next_time = self._sample_dense(step.dense, t_old, te, times, next_time, mode, emit)
                     # stop on the kind the event watches, or on what the switch would do
                     switched = None if stop_on and events[k].kind in stop_on else \
                         self._switch(te, ye, mode, events[k])
@@ -512,6 +524,16 @@ class Simulation:
                         break
                     y, new_mode, record = switched
                     events_log.append(record)
+                    limit = series.add(events[k].name, new_mode.label(), te, ye[:n], ye[n:2 * n]) \
+                        if isinstance(events[k], (Touch, ContactTouch)) else None
+                    if limit is not None and limit.t < t_end:
+                        y, new_mode, record = self._accumulate(limit, y, mode, events[k])
+                        events_log.append(record)
+                        series.reset()
+                        te = limit.t
+                        while times is not None and next_time < times.size and times[next_time] < te:
+                            emit(times[next_time], y, new_mode)  # within the rest of the series
+                            next_time += 1
                     if len(events_log) > self.max_events:
                         raise IntegrationFailed(te, mode.label(), f"more than {self.max_events} mode "
                                                 "switches (chattering or Zeno behaviour)",
@@ -550,7 +572,7 @@ class Simulation:
                     restart = True
                     continue
                 if times is None:
-                    emit(t_new, ode.y, mode, motion)
+                    emit(t_new, ode.y, mode, motion, step=True)
                 else:
                     next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times, next_time,
                                                    mode, emit)
@@ -559,7 +581,7 @@ class Simulation:
                     break
             if stopped or (not restart and ode.status == "finished"):
                 break
-        if pending:  # a switch exactly at the end
+        if pending or samples and samples[-1].t < t:  # a switch at the end; the thinned last step
             emit(t, y, mode)
         if times is not None:
             while next_time < times.size and times[next_time] <= t + 1e-12 * max(1, abs(t)):
@@ -573,6 +595,7 @@ class Simulation:
             "atol": self.atol,
             "form": self.solver.form,
             "stabilization": "coordinate projection when residual > 1e-10 (relative)",
+            "output_stride": samples.stride,
         }
         if solver.charts is not None:
             diagnostics["chart_changes"] = solver.charts.changes - changes
@@ -587,7 +610,8 @@ class Simulation:
         if reason:
             raise IntegrationFailed(ode.t, mode.label(), reason,
                                     None if self.model.source == "<api>" else self.model.source)
-        self._explain_servo(ode, mode)
+        mass_stall(self.model, self.solver, ode.t, ode.y, self.model.t0, np.concatenate(self.initial_state()))
+        servo_stall(self.model, self.solver, ode.t, ode.y, mode)
         for name, cs in mode.contacts:
             if cs.state != SLIDE:
                 continue
@@ -601,39 +625,6 @@ class Simulation:
                     f"Painleve paradox at contact '{name}': the integration stalled while the "
                     f"effective normal compliance b = {b:.3g} of the sliding contact vanished -- the "
                     "normal force grows without bound (dynamic jamming)", ode.t, state)
-
-    def _explain_servo(self, ode, mode: Mode) -> None:
-        """A servo- or quasi-ideal constraint whose reaction stops realizing it (``G M^-1 B``
-        singular: the control direction turns orthogonal, in the metric of M, to the program's
-        gradient, and the control force grows without bound) stalls the integration: say so,
-        naming the constraints (exit code 3)."""
-        kernel, n = self.kernel, self.n
-        rows = self.solver.rows(mode)
-        if not any(kernel.rows[i].reaction_kind != "ideal" for i in rows):
-            return
-        q, qd = ode.y[:n], ode.y[n:2 * n]
-        out = kernel.dynamics(self.solver.input(ode.t, q, qd))
-        M, G, B = (np.asarray(out[k], dtype=float) for k in ("M", "G", "B"))
-        try:
-            relative, w = weakest_reactions(M, G[rows], B[:, rows])
-        except np.linalg.LinAlgError:  # pragma: no cover - M singular is diagnosed elsewhere
-            return
-        if relative > 1e-6:
-            return
-        involved = [kernel.rows[i].name for k, i in enumerate(rows)
-                    if abs(w[k]) > 1e-3 * np.max(np.abs(w)) and kernel.rows[i].reaction_kind != "ideal"]
-        state = dict(zip(self.model.coordinates, q))
-        state.update({c + "'": float(v) for c, v in zip(self.model.coordinates, qd)})
-        orders = {x: kernel.dyn.servo_reach[x].order for x in involved if x in kernel.dyn.servo_reach}
-        tried = "".join(f"; the control of '{x}' acts through the dynamics: the program was differentiated to "
-                        f"order {k} (its condition of dynamics loses the control)" for x, k in orders.items() if k > 2)
-        raise MechanicsError(
-            f"the servo/quasi-ideal constraint(s) {', '.join(repr(x) for x in involved)} stop being "
-            f"realizable at t = {ode.t:.10g}: G M^-1 B is singular there (smallest singular value "
-            f"{relative:.2g} of its scale) -- the control direction has turned orthogonal, in the "
-            "metric of M, to the program's gradient, and the control force needed grows without "
-            f"bound; the programmed motion cannot be continued with this control{tried}", ode.t, state,
-            details={"order_tried": orders} if tried else None)
 
     @staticmethod
     def _residuals(motion: Motion, mode: Mode, drift):
@@ -679,7 +670,9 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
         Formalism used to evaluate the accelerations.
     **options
         ``parameters``, ``rtol``, ``atol``, ``method``, ``max_step``, ``independent``,
-        ``initial``, ``detect_jam``, ``specialize``.
+        ``initial``, ``detect_jam``, ``specialize``, ``max_samples`` (step samples kept, default
+        100000; beyond, the step output is thinned -- ``diagnostics["output_stride"]`` --
+        events and requested times are always kept; ``None`` keeps every step).
 
     Returns
     -------
@@ -693,12 +686,13 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
     [0.0, 1.0]
     """
     allowed = ("parameters", "rtol", "atol", "method", "max_step", "independent", "max_events",
-               "detect_jam", "specialize", "initial", "stop_on")
+               "detect_jam", "specialize", "initial", "stop_on", "max_samples")
     unknown = [k for k in options if k not in allowed]
     if unknown:
         from ..errors import did_you_mean
         raise ModelError([f"simulate: unknown option '{k}'{did_you_mean(k, allowed)}; allowed: "
                           + ", ".join(allowed) for k in unknown])
+    check_arguments(model, t_end, times, form, options)
     initial = options.pop("initial", None)
     stop_on = options.pop("stop_on", None)
     sim = Simulation(model, form=form, **options)

@@ -1,0 +1,130 @@
+"""Bounded memory and runs that cannot finish.
+
+A simulation keeps, by default, the state at every accepted step and at every event.  A long
+run (a pendulum to ``t_end = 1e5``: a million steps) would hold all of them; a run whose end
+is out of reach (``t_end = 1e8``, or a stiff spring resolved by an explicit method) would grow
+without bound.  Three limits keep every run bounded:
+
+* :class:`SampleBuffer` keeps at most :data:`MAX_SAMPLES` step samples: when full, it drops
+  every other step sample (never an event's or a requested time's) and from then on keeps one
+  step in 2, 4, ... -- the output stays a faithful picture of the motion on a grid twice as
+  coarse, said in ``diagnostics["output_stride"]``.  ``max_samples=None`` keeps every step
+  (asked for explicitly);
+* :func:`check_times`: at most :data:`MAX_TIMES` requested sample times;
+* :class:`StepBudget`: after :data:`PROBE_STEPS` steps, and every as many after, the number of
+  steps the run needs is extrapolated from its progress; above :data:`MAX_STEPS` the run is
+  refused, naming the estimate and what to change.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+from ..equations.formalisms import FORMS
+from ..errors import ModelError
+from ..modeling.arguments import real_number, require_form, require_mapping, require_model, sample_times
+
+__all__ = ["MAX_SAMPLES", "MAX_TIMES", "MAX_STEPS", "PROBE_STEPS", "SampleBuffer", "StepBudget",
+           "check_times", "check_arguments"]
+
+MAX_SAMPLES = 100_000
+"""Step samples kept by default (events and requested times come on top)."""
+MAX_TIMES = 200_000
+"""Requested sample times (``--times``, ``times=``) at most."""
+MAX_STEPS = 5_000_000
+"""Integrator steps a run may need (extrapolated from its progress) before it is refused."""
+PROBE_STEPS = 2_000
+"""Steps between two extrapolations."""
+
+
+def check_times(times: np.ndarray) -> None:
+    """Refuse more than :data:`MAX_TIMES` sample times (each becomes a sample in memory)."""
+    if times.size > MAX_TIMES:
+        raise ModelError(f"--times: {times.size} sample times requested; at most {MAX_TIMES} "
+                         "(every one is kept in memory): sample more coarsely or split the run")
+
+
+class SampleBuffer(list):
+    """The samples of a run, at most *limit* of them taken at plain steps (see the module
+    docstring).  ``append(sample, step=True)``: a step sample, subject to the stride."""
+
+    def __init__(self, limit: int | None = MAX_SAMPLES):
+        super().__init__()
+        self.limit = limit
+        self.stride = 1
+        self._steps = 0          # step samples kept
+        self._seen = 0           # step samples offered since the stride last changed
+        self._is_step: list[bool] = []
+
+    def add(self, sample, step: bool = False) -> None:
+        if step and self.limit is not None:
+            self._seen += 1
+            if self._seen % self.stride:
+                return
+            if self._steps >= self.limit:
+                self._thin()
+        self.append(sample)
+        self._is_step.append(step)
+        self._steps += step
+
+    def _thin(self) -> None:
+        """Drop every other step sample; double the stride."""
+        keep, flags, parity = [], [], 0
+        for sample, step in zip(self, self._is_step):
+            if step:
+                parity ^= 1
+                if not parity:
+                    continue
+            keep.append(sample)
+            flags.append(step)
+        self[:] = keep
+        self._is_step = flags
+        self._steps = sum(flags)
+        self.stride *= 2
+        self._seen = 0
+
+
+class StepBudget:
+    """Refuses a run whose extrapolated number of steps exceeds :data:`MAX_STEPS`."""
+
+    def __init__(self, t0: float, t_end: float, source: str | None, limit: int = MAX_STEPS):
+        self.t0, self.t_end, self.source, self.limit = t0, t_end, source, limit
+        self.steps = 0
+
+    def step(self, t: float) -> None:
+        self.steps += 1
+        if self.steps % PROBE_STEPS or t <= self.t0:
+            return
+        needed = self.steps * (self.t_end - self.t0) / (t - self.t0)
+        if needed > self.limit:
+            raise ModelError(
+                f"simulate: this run cannot finish: after {self.steps} steps it has reached "
+                f"t = {t:.6g} of t_end = {self.t_end:.6g}, so it would need about {needed:.2g} "
+                f"steps (the limit is {self.limit:.0e}): give an earlier end time (--t-end), a "
+                "looser tolerance (rtol), or a stiff integrator (--method Radau or BDF) for a "
+                "stiff model", self.source)
+
+
+def check_arguments(model, t_end, times, form, options: dict) -> None:
+    """The arguments of :func:`~nonideal.simulate`, checked before any work (the command line's
+    checks, for the Python API): a Model, a finite end time after ``t0``, sample times that are
+    numbers, positive tolerances and step bound, a positive sample limit."""
+    f = "simulate"
+    require_model(model, f)
+    require_form(form, f, [*FORMS, "gauss"])
+    t_end = real_number(t_end, f, "t_end")
+    if t_end is not None and t_end <= model.t0:
+        raise ModelError(f"{f}: t_end = {t_end:g} is not after t0 = {model.t0:g}")
+    sample_times(times, f)
+    real_number(options.get("rtol"), f, "rtol", positive=True)
+    if options.get("atol") is not None and np.ndim(options["atol"]) == 0:
+        real_number(options["atol"], f, "atol", positive=True)
+    real_number(options.get("max_step"), f, "max_step", positive=True)
+    for name in ("parameters", "initial"):
+        require_mapping(options.get(name), f, name, "{'m': 2.0}")
+    limit = options.get("max_samples", MAX_SAMPLES)
+    if limit is not None and (isinstance(limit, bool) or not isinstance(limit, numbers.Integral)
+                              or limit < 2):
+        raise ModelError(f"{f}: max_samples must be an integer >= 2 or None, got {limit!r}")

@@ -1,0 +1,206 @@
+"""Event guards that a long step cannot skip.
+
+The hybrid loop watches each event function ``g`` (a gap, a slip velocity, a normal force, the
+margin of the friction cone: :mod:`nonideal.events`) for a change of sign from positive to
+non-positive.  Comparing ``g`` at the two ends of an accepted step misses every event whose
+function goes through zero and back within the step: a slip that stops and restarts within one
+step (the stiff stick-slip oscillator, where sticking lasts microseconds), a ball that leaves
+the floor and lands again within a step (the integrator takes one step over a whole parabola
+of free flight, which it integrates exactly).  A :class:`StepScan` reads the integrator's
+dense output inside the step instead:
+
+1. the event functions are sampled at :data:`PROBES` interior points of the step and just
+   inside its ends (one :class:`~nonideal.mode_system.Motion` per point, shared by all the
+   events) -- always the kinematic ones (gaps, slips: no solve), the forces (normal force,
+   friction cone margin, multiplier: a solve of the mode each) when the step brings them
+   within :data:`PROBE_NEAR` times their change across it of zero;
+2. an event that starts the step unarmed (``g <= tol``, e.g. a gap just closed by an impact)
+   is armed at the first sample where ``g > tol``; when none is, but ``g`` rises from the start,
+   its maximum in the first interval is located (bounded Brent) and arms it when above ``tol``;
+3. a sign change between consecutive samples is bracketed; an interior local minimum of the
+   samples that stays positive is minimized (bounded Brent on the dense output) and bracketed
+   when its minimum is not positive -- the double roots a sampled sign test misses;
+4. the root is located with Brent's method; the earliest event of the step wins.
+
+The cost is ``PROBES`` evaluations of the watched quantities per step (kinematic quantities for
+gaps and slips, one solve of the mode for forces), plus a few dozen for each local minimum.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+from scipy.optimize import brentq, minimize_scalar
+
+from ..modes.system import Motion
+
+__all__ = ["PROBES", "StepScan", "Step", "event_hits"]
+
+PROBES = 3
+"""Interior samples of the event functions per accepted step."""
+PROBE_NEAR = 2.0
+"""Functions that need a solve are probed when their smaller end value is within this many
+times their change across the step of zero."""
+NEAR_END = 1e-3
+"""Two more samples this fraction of an interval inside the ends of the step (the slopes)."""
+
+
+class StepScan:
+    """The event functions of one mode over one accepted step ``[a, b]``.
+
+    Parameters
+    ----------
+    value : callable
+        ``value(k, s)``: event *k*'s function at time *s* of the step (reads the dense output).
+    a, b : float
+        The step.
+    ends : sequence of (float, float)
+        ``(g(a), g(b))`` of each event (known from the loop).
+    """
+
+    def __init__(self, value: Callable[[int, float], float], a: float, b: float,
+                 ends: Sequence[tuple[float, float]], cheap: Sequence[bool] | None = None):
+        self.value, self.a, self.b = value, a, b
+        self.cheap = cheap
+        self.ends = ends
+        self._s = None
+
+    @property
+    def s(self) -> np.ndarray:
+        """The sample times: the ends, :data:`PROBES` interior points and, just inside the
+        ends, two more (a minimum near an end shows as a local minimum there)."""
+        if self._s is None:
+            a, b = self.a, self.b
+            h = (b - a) / (PROBES + 1)
+            inner = [a + h * i for i in range(1, PROBES + 1)]
+            self._s = np.array([a, a + NEAR_END * h] + inner + [b - NEAR_END * h, b])
+        return self._s
+
+    def _samples(self, k: int) -> list[float]:
+        ga, gb = self.ends[k]
+        return [ga] + [self.value(k, s) for s in self.s[1:-1]] + [gb]
+
+    def first_root(self, k: int, armed: bool, tol: float) -> tuple[float | None, bool]:
+        """The earliest time in the step where event *k* goes from positive (after being
+        armed) to non-positive, or None; and whether the event is armed at the end of the step.
+
+        An event that is not armed at the start (its function within *tol* of zero or below)
+        is armed where its function first exceeds *tol*.
+        """
+        ga, gb = self.ends[k]
+        if armed and not self._worth_probing(k, ga, gb):
+            return (self._root(k, self.a, self.b) if ga > 0 >= gb else None), True
+        s = self.s
+        g = self._samples(k)
+        start = 0
+        if not armed:
+            above = [i for i, v in enumerate(g) if v > tol]
+            if above:
+                start = above[0]
+            else:
+                # a peak inside the first interval (a bounce shorter than a fifth of the step)
+                peak = self._maximum(k, s[0], s[2]) if g[1] > g[0] else None
+                if peak is None or peak[1] <= tol:
+                    return None, False
+                return self._after(k, peak[0], peak[1]), True
+        te = self._scan(k, s[start:], g[start:])
+        return te, True
+
+    def _worth_probing(self, k: int, ga: float, gb: float) -> bool:
+        """Cheap functions (kinematic: gaps, slips) are always probed; the others (forces,
+        which need a solve of the mode per sample) when the step brings them within twice
+        their change across it of zero, or across it."""
+        if self.cheap is None or self.cheap[k]:
+            return True
+        return min(ga, gb) <= PROBE_NEAR * abs(gb - ga)
+
+    def _after(self, k: int, x: float, gx: float) -> float | None:
+        """First root after an interior point *x* (``g(x) = gx > 0``) of the step."""
+        s = np.concatenate(([x], self.s[self.s > x]))
+        g = [gx] + [self.value(k, v) for v in s[1:-1]] + [self.ends[k][1]]
+        return self._scan(k, s, g)
+
+    def _scan(self, k: int, s, g) -> float | None:
+        for i in range(1, len(s)):
+            if i < len(s) - 1 and 0 < g[i] < g[i - 1] and g[i] < g[i + 1] \
+                    and g[i] < max(g[i - 1], g[i + 1]) - g[i]:  # a dip as deep as its height
+                low = self._minimum(k, s[i - 1], s[i + 1])
+                if low is not None and low[1] <= 0:
+                    return self._root(k, s[i - 1], low[0])
+            if g[i - 1] > 0 >= g[i]:
+                return self._root(k, s[i - 1], s[i])
+        return None
+
+    def _root(self, k: int, lo: float, hi: float) -> float:
+        return brentq(lambda x: self.value(k, x), lo, hi,
+                      xtol=1e-15 * max(1.0, abs(hi)), rtol=8.9e-16, maxiter=200)
+
+    def _minimum(self, k: int, lo: float, hi: float):
+        return self._extremum(lambda x: self.value(k, x), lo, hi)
+
+    def _maximum(self, k: int, lo: float, hi: float):
+        found = self._extremum(lambda x: -self.value(k, x), lo, hi)
+        return None if found is None else (found[0], -found[1])
+
+    @staticmethod
+    def _extremum(f, lo: float, hi: float):
+        if not hi > lo:
+            return None
+        res = minimize_scalar(f, bounds=(lo, hi), method="bounded",
+                              options={"xatol": 1e-12 * max(1.0, abs(hi)) + 1e-9 * (hi - lo)})
+        return float(res.x), float(res.fun)
+
+
+class Step:
+    """One accepted step of the integrator, read lazily: the dense output and the
+    :class:`~nonideal.modes.system.Motion` at any time of the step (cached, shared by the
+    event guards and the regularity guard)."""
+
+    def __init__(self, solver, mode, ode, motion):
+        self.solver, self.mode, self.ode = solver, mode, ode
+        self.a, self.b = ode.t_old, ode.t
+        self._dense = None
+        self._motions = {self.b: motion}
+
+    @property
+    def dense(self):
+        if self._dense is None:
+            self._dense = self.ode.dense_output()
+        return self._dense
+
+    def state(self, s: float) -> np.ndarray:
+        return self.dense(s)
+
+    def motion(self, s: float) -> Motion:
+        m = self._motions.get(s)
+        if m is None:
+            m = self._motions[s] = Motion(self.solver, self.mode, s, self.dense(s))
+        return m
+
+
+def event_hits(step: Step, events, armed: list[bool], tols, g_prev, g_new) -> list[tuple[float, int]]:
+    """``(time, index)`` of every event that fires in *step* (:class:`StepScan`); *armed* is
+    updated for the events armed inside the step.  An unarmed event whose function left zero
+    on the wrong side (a force that was zero at the switch) fires where it passes ``-tol/2``."""
+    if not events:
+        return []
+
+    def value(k, s):
+        return events[k].value(step.motion(s))
+    scan = StepScan(value, step.a, step.b, list(zip(g_prev, g_new)), [ev.kinematic for ev in events])
+    hits = []
+    for k in range(len(events)):
+        te, now_armed = scan.first_root(k, armed[k], tols[k])
+        if te is None and not now_armed and g_new[k] < -tols[k]:
+            shift = tols[k] / 2
+            if value(k, step.a) + shift <= 0:
+                te = step.a
+            else:
+                te = brentq(lambda s, k=k: value(k, s) + shift, step.a, step.b,
+                            xtol=1e-15 * max(1.0, abs(step.b)), rtol=8.9e-16, maxiter=200)
+        if te is not None:
+            hits.append((te, k))
+        elif now_armed:
+            armed[k] = True
+    return hits

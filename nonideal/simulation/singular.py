@@ -1,0 +1,223 @@
+"""Constraints that become singular along a motion.
+
+The motion in a mode is determined while the active constraint rows ``G q'' + gamma = 0`` are
+independent and none has a vanishing gradient.  Both can fail along a motion that starts
+regular, and then the multipliers pass through a pole (``lambda ~ 1/(t - t*)``) while the
+accelerations may stay finite, so that the integrator steps over the point without noticing:
+
+* two holonomic constraints whose gradients become parallel -- ``x^2 + y^2 = 1`` and the
+  program ``y = -cos t`` at ``t = pi`` (``x = 0``): beyond it the constraints allow both
+  ``x = sin t`` and ``x = |sin t|``, and which one a step takes is decided by rounding;
+* a nonlinear nonholonomic constraint whose gradient ``d phi/dq'`` vanishes, like
+  ``z'^2 = a^2 (x'^2 + y'^2)`` wherever all three velocities vanish: the reaction has no
+  direction there (Chetaev's condition gives none).
+
+The watched quantity is the *regularity* of the active ideal rows (servo- and quasi-ideal rows
+are watched by the realizability test of the simulation, ``G M^-1 B``):
+
+    rho = min( min_i |G_i| / max_run |G_i|,   sqrt(sigma_min(G~ M^-1 G~^T) / |G~| |M^-1 G~^T|) )
+
+with ``G~`` the rows scaled to unit norm: the first term is a gradient that has shrunk to
+nothing relative to its size earlier in the run, the second rows that have become dependent in
+the metric of the mass matrix (:func:`~nonideal.modes.weakest_reactions`).  At the end of each
+step a cheap test (:meth:`Regularity.suspect`: a row that reversed, rows whose orientation
+flipped) says whether the step may have passed a singular point; only then is ``rho`` guarded
+inside the step like the events (:mod:`nonideal.guards`), and when it falls below :data:`SINGULAR` the
+run stops with :class:`~nonideal.errors.SingularMotion` (exit code 3), naming the constraints,
+the time and the state.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import MechanicsError, SingularMotion, SingularSystem
+from ..modes.diagnosis import weakest_reactions
+from .guards import StepScan
+
+__all__ = ["SINGULAR", "Regularity", "servo_stall", "mass_stall"]
+
+SINGULAR = 1e-6
+"""Regularity below which the constraint rows are treated as singular."""
+SUSPECT = 1e-3
+"""Regularity (or determinant of the rows at the two ends of a step) below which a step is
+scanned inside for a singular point."""
+
+
+class Regularity:
+    """The regularity ``rho`` of a model's active ideal rows along one run.
+
+    Parameters
+    ----------
+    kernel : Kernel
+    """
+
+    def __init__(self, kernel):
+        self.kernel = kernel
+        self.reference = np.zeros(len(kernel.rows))  # the largest |G_i| seen
+        self.last = None  # the unit rows at the last accepted state
+
+    def start(self, motion, rows: list[int]) -> None:
+        """The state that starts a phase (its rows are the reference of the next step)."""
+        self.last = self._unit_rows(motion, rows, update=True)[0] if rows else None
+
+    def suspect(self, motion, rows: list[int]) -> bool:
+        """Accept the state at the end of a step; True when the rows may have gone through a
+        singular configuration since the previous accepted state: a row reversed its direction
+        (its gradient went through zero), ``det(G~_new G~_old^T)`` is not positive (they went
+        through a dependent configuration), or the regularity is below :data:`SUSPECT`.  Cheap:
+        only then is the step scanned (:meth:`value` on the dense output)."""
+        unit, shrink = self._unit_rows(motion, rows, update=True)
+        last, self.last = self.last, unit
+        if last is None or last.shape != unit.shape or shrink <= SUSPECT:
+            return True
+        if np.any(np.einsum("ij,ij->i", unit, last) <= 0.0):
+            return True
+        return len(rows) > 1 and np.linalg.det(unit @ last.T) <= SUSPECT
+
+    def _unit_rows(self, motion, rows, update=False):
+        """The rows scaled to unit norm, and the smallest ratio of a row's norm to its
+        reference."""
+        G, _ = self._arrays(motion)
+        G = G[rows]
+        norms = np.sqrt(np.einsum("ij,ij->i", G, G))
+        if update:
+            self.reference[rows] = np.maximum(self.reference[rows], norms)
+        ref = self.reference[rows]
+        shrink = float(np.min(norms / np.where(ref > 0, ref, 1.0)))
+        return G / np.where(norms > 0, norms, 1.0)[:, None], shrink
+
+    def _arrays(self, motion):
+        """``(G, M)`` at the state of *motion*."""
+        out = self.kernel.dynamics(motion.solver.input(motion.t, motion.q, motion.qd))
+        return np.asarray(out["G"], dtype=float).reshape(-1, motion.n), np.asarray(out["M"], dtype=float)
+
+    def crossing(self, step, rows: list[int]) -> float | None:
+        """The first time in *step* (:class:`~nonideal.simulation.guards.Step`) where the
+        regularity falls to :data:`SINGULAR`, or None; the step is scanned only when
+        :meth:`suspect` says so."""
+        if not self.suspect(step.motion(step.b), rows):
+            return None
+
+        def rho(_, s):
+            return self.value(step.motion(s), rows) - SINGULAR
+        ends = (rho(0, step.a), rho(0, step.b))
+        return StepScan(rho, step.a, step.b, [ends]).first_root(0, ends[0] > 0, 0.0)[0]
+
+    def rows(self, active: list[int]) -> list[int]:
+        """The rows it watches among the *active* kernel rows (the ideal ones)."""
+        return [i for i in active if self.kernel.rows[i].reaction_kind == "ideal"]
+
+    def value(self, motion, rows: list[int]) -> float:
+        """``rho`` at the state of *motion*."""
+        return self.analyse(motion, rows)[0]
+
+    def analyse(self, motion, rows: list[int]):
+        """``(rho, vanishing row or None, weakest combination of the rows)``."""
+        G, M = self._arrays(motion)
+        G = G[rows]
+        norms = np.sqrt(np.einsum("ij,ij->i", G, G))
+        ref = self.reference[rows]
+        shrink = norms / np.where(ref > 0, ref, 1.0)
+        j = int(np.argmin(shrink))
+        if shrink[j] <= SINGULAR or norms[j] == 0.0:
+            return float(shrink[j]), rows[j], None
+        if len(rows) == 1:
+            return float(shrink[0]), None, None
+        Gt = G / norms[:, None]
+        try:
+            dep, w = weakest_reactions(M, Gt, Gt.T)
+        except np.linalg.LinAlgError:  # a singular mass matrix is diagnosed elsewhere
+            return float(shrink[j]), None, None
+        return min(float(shrink[j]), float(np.sqrt(dep))), None, w
+
+    def stop(self, model, motion, watched: list[int]) -> None:
+        """Stop where the active constraints became singular along the motion
+        (:class:`~nonideal.errors.SingularMotion`), naming them, with the state."""
+        rho, vanishing, w = self.analyse(motion, watched)
+        rows = self.kernel.rows
+        names = model.coordinates
+        state = dict(zip(names, map(float, motion.q)))
+        state.update({c + "'": float(v) for c, v in zip(names, motion.qd)})
+        if vanishing is not None or w is None:
+            row = rows[vanishing if vanishing is not None else watched[0]]
+            raise SingularMotion(
+                f"constraint '{row.name}' lost its gradient along the motion: its derivative "
+                f"with respect to the {('coordinates', 'velocities', 'accelerations')[min(row.order, 2)]} "
+                f"fell to {rho:.2g} of its size earlier in the run, "
+                "so its reaction has no direction there and its multiplier passes through a pole; "
+                "the equations do not determine the motion beyond this state (write the "
+                "constraint so that its gradient does not vanish, e.g. solved for one velocity, "
+                "or end the run before it)", motion.t, state,
+                {"constraint": row.name, "regularity": f"{rho:.3g}"})
+        big = [k for k in range(len(watched)) if abs(w[k]) > 1e-3 * np.max(np.abs(w))]
+        involved = [rows[watched[k]].name for k in big]
+        combo = " + ".join(f"{w[k]:.4g}*grad('{rows[watched[k]].name}')" for k in big)
+        raise SingularMotion(
+            f"the constraints {', '.join(repr(x) for x in involved)} became dependent along the "
+            f"motion ({combo} ~ 0: the smallest singular value of G M^-1 G^T fell to {rho ** 2:.2g} of "
+            "its scale), so their multipliers pass through a pole and the constraints no longer "
+            "determine the motion beyond this state (several continuations satisfy them); "
+            "remove the redundant constraint, or end the run before this time", motion.t, state,
+            {"constraints": ", ".join(involved), "regularity": f"{rho:.3g}"})
+
+
+def servo_stall(model, solver, t: float, y: np.ndarray, mode) -> None:
+    """A servo- or quasi-ideal constraint whose reaction stops realizing it (``G M^-1 B``
+    singular: the control direction turns orthogonal, in the metric of M, to the program's
+    gradient, and the control force grows without bound) stalls the integration: say so,
+    naming the constraints (exit code 3).  Called when the integration stalls."""
+    kernel, n = solver.kernel, solver.n
+    rows = solver.rows(mode)
+    if not any(kernel.rows[i].reaction_kind != "ideal" for i in rows):
+        return
+    q, qd = y[:n], y[n:2 * n]
+    out = kernel.dynamics(solver.input(t, q, qd))
+    M, G, B = (np.asarray(out[k], dtype=float) for k in ("M", "G", "B"))
+    try:
+        relative, w = weakest_reactions(M, G[rows], B[:, rows])
+    except np.linalg.LinAlgError:  # pragma: no cover - M singular is diagnosed elsewhere
+        return
+    if relative > 1e-6:
+        return
+    involved = [kernel.rows[i].name for k, i in enumerate(rows)
+                if abs(w[k]) > 1e-3 * np.max(np.abs(w)) and kernel.rows[i].reaction_kind != "ideal"]
+    state = dict(zip(model.coordinates, q))
+    state.update({c + "'": float(v) for c, v in zip(model.coordinates, qd)})
+    orders = {x: kernel.dyn.servo_reach[x].order for x in involved if x in kernel.dyn.servo_reach}
+    tried = "".join(f"; the control of '{x}' acts through the dynamics: the program was differentiated to "
+                    f"order {k} (its condition of dynamics loses the control)" for x, k in orders.items() if k > 2)
+    raise MechanicsError(
+        f"the servo/quasi-ideal constraint(s) {', '.join(repr(x) for x in involved)} stop being "
+        f"realizable at t = {t:.10g}: G M^-1 B is singular there (smallest singular value "
+        f"{relative:.2g} of its scale) -- the control direction has turned orthogonal, in the "
+        "metric of M, to the program's gradient, and the control force needed grows without "
+        f"bound; the programmed motion cannot be continued with this control{tried}", t, state,
+        details={"order_tried": orders} if tried else None)
+
+
+def mass_stall(model, solver, t: float, y: np.ndarray, t0: float, y0: np.ndarray) -> None:
+    """A mass matrix that becomes singular along the motion (``(1 - t) x'^2/2`` at t = 1, or
+    ``cos(x)^2 x'^2/2`` at x = pi/2) stalls the integration: say so, with the smallest
+    eigenvalue relative to the mass matrix at the start *(t0, y0)* (exit code 2: the model's
+    kinetic energy is degenerate there).  Called when the integration stalls."""
+    n = solver.n
+
+    def eig(tt, yy):
+        M = np.asarray(solver.kernel.dynamics(solver.input(tt, yy[:n], yy[n:2 * n]))["M"], dtype=float)
+        return np.linalg.eigh((M + M.T) / 2)
+    w0, _ = eig(t0, y0)
+    w, v = eig(t, y)
+    scale = max(float(np.max(np.abs(w0))), 1e-300)
+    if w[0] > 1e-6 * scale:
+        return
+    vec = v[:, 0] / v[np.argmax(np.abs(v[:, 0])), 0]
+    combo = " + ".join(f"{a:.4g}*{c}'" for a, c in zip(vec, model.coordinates) if abs(a) > 1e-9)
+    state = ", ".join(f"{c} = {float(x):.10g}" for c, x in zip(model.coordinates, y[:n]))
+    raise SingularSystem(
+        f"the mass matrix becomes singular along the motion at t = {t:.10g} ({state}): its "
+        f"smallest eigenvalue fell to {w[0]:.3g} ({w[0] / scale:.2g} of its size at the start), "
+        f"so the velocity combination {combo} has no inertia there and the accelerations grow "
+        "without bound; the kinetic energy is degenerate at this state (check the factors in "
+        "front of the velocities), or end the run before it",
+        None if model.source == "<api>" else model.source)

@@ -1,0 +1,78 @@
+"""Long runs stay in bounded memory, runs that cannot finish are refused within seconds, and
+the Python API checks its arguments as the command line does."""
+
+import math
+
+import numpy as np
+import pytest
+
+import nonideal
+from nonideal.errors import ModelError, SingularSystem
+from nonideal.modeling.modelfile import load_model, model_from_dict
+from nonideal.simulation import simulate
+from nonideal.simulation.budget import MAX_TIMES, SampleBuffer
+from tests.helpers import DATA_DIR
+
+
+@pytest.fixture(scope="module")
+def pendulum():
+    return load_model(DATA_DIR / "pendulum_long.toml")
+
+
+def test_long_run_is_thinned_to_the_sample_limit_and_keeps_its_end(pendulum):
+    traj = simulate(pendulum, t_end=500.0, max_samples=200)
+    stride = traj.diagnostics["output_stride"]
+    assert stride > 1 and len(traj.t) <= 2 * 200 + 2
+    assert traj.t[-1] == 500.0 and np.all(np.diff(traj.t) > 0)
+    exact = simulate(pendulum, t_end=500.0, times=[500.0])
+    assert traj.q[-1] == pytest.approx(exact.q[-1], abs=1e-12)
+    # energy is conserved along the thinned samples too
+    assert np.ptp(traj.energy["energy"]) < 1e-6
+
+
+def test_sample_buffer_keeps_events_and_halves_steps():
+    buf = SampleBuffer(limit=4)
+    for k in range(20):
+        buf.add(("step", k), step=True)
+        if k == 5:
+            buf.add(("event", k))
+    assert ("event", 5) in buf and sum(1 for s in buf if s[0] == "step") <= 4
+    assert buf.stride == 8
+    steps = [s[1] for s in buf if s[0] == "step"]
+    assert steps == sorted(steps) and all(b - a == buf.stride for a, b in zip(steps[1:], steps[2:]))
+
+
+def test_a_run_that_cannot_finish_is_refused(pendulum):
+    with pytest.raises(ModelError, match=r"cannot finish.*about 1e\+10 steps"):
+        simulate(pendulum)  # t_end = 1e9
+
+
+def test_too_many_requested_times_are_refused(pendulum):
+    with pytest.raises(ModelError, match=f"at most {MAX_TIMES}"):
+        simulate(pendulum, times=np.linspace(0, 2, 10 ** 7))
+
+
+def test_a_vanishing_mass_is_named_as_the_cause():
+    with pytest.raises(SingularSystem, match=r"mass matrix becomes singular.*t = 0\.99999"):
+        simulate(load_model(DATA_DIR / "vanishing_mass.toml"))
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda m: simulate(None), "simulate: the model must be a Model"),
+    (lambda m: simulate("pend.toml"), "read the file first: simulate(load_model('pend.toml')"),
+    (lambda m: simulate(m, t_end=-1), "t_end = -1 is not after t0 = 0"),
+    (lambda m: simulate(m, t_end=math.nan), "t_end must be a finite number"),
+    (lambda m: simulate(m, times=[]), "times is empty"),
+    (lambda m: simulate(m, times="abc"), "times must be a sequence of numbers"),
+    (lambda m: simulate(m, t_end=1, rtol=-1), "rtol must be positive"),
+    (lambda m: simulate(m, t_end=1, max_step=0), "max_step must be positive"),
+    (lambda m: simulate(m, t_end=1, parameters=[1]), "parameters must be a mapping"),
+    (lambda m: nonideal.derive(m, None), "derive: form must be one of"),
+    (lambda m: nonideal.derive({}, "maggi"), "derive: the model must be a Model"),
+    (lambda m: nonideal.evaluate(m, at=[1, 2]), "evaluate: at must be a mapping"),
+    (lambda m: model_from_dict("x"), "model_from_dict: data must be a dict"),
+])
+def test_api_arguments_are_checked(pendulum, call, message):
+    with pytest.raises(ModelError) as info:
+        call(pendulum)
+    assert message in str(info.value)
