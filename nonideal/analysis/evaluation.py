@@ -247,7 +247,7 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
         numbers under the name every row has.  Where the
         reactions are statically indeterminate (dependent rows: a ladder sticking at a rough
         wall and floor), the multipliers and contact forces are the admissible distribution
-        with the widest margins, the least-norm one among several (:mod:`nonideal.indeterminate`),
+        with the widest margins, the least-norm one among several (:mod:`nonideal.modes.indeterminate`),
         and a sticking contact's ``margin`` is its margin in that distribution.
     """
     from ..modes.switching import select_mode, validate_state

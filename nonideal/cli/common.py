@@ -22,7 +22,7 @@ __all__ = ["ParserContext", "json_option", "model_argument", "load_spec", "check
 METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 #: the forms of ``nonideal.equations.formalisms.FORMS``, named here so that building the parser
 #: (``--help``) does not import SymPy; tests/cli/test_cli_startup.py checks they agree
-FORM_NAMES = ("lagrange1", "lagrange2", "maggi", "appell", "shulgin")
+FORM_NAMES = ("lagrange1", "lagrange2", "maggi", "appell", "shulgin", "servo")
 PLOT_SAMPLES = 601   # samples of a plotted or tabulated (--csv) run when --times is not given
 
 #: the smallest relative tolerance: SciPy's integrators raise a smaller one to 100 machine

@@ -16,7 +16,7 @@ Bodies are handled the way Kane does it (no differentiation of T): for a point a
 ``m J^T a0`` to h.  This keeps expression size polynomial in the number of bodies.
 
 Symbols: ``q``, ``qd``, ``qdd`` are SymEngine symbols named like the SymPy ones of
-:mod:`nonideal.symbols`.
+:mod:`nonideal.modeling.symbols`.
 """
 
 from __future__ import annotations

@@ -68,7 +68,7 @@ class EquationsOfMotion:
     constraint_names : tuple of str
         Constraint (or contact row) each multiplier belongs to.
     rows : tuple
-        The :class:`~nonideal.dynamics.ConstraintRow` objects the equations were derived for.
+        The :class:`~nonideal.equations.dynamics.ConstraintRow` objects the equations were derived for.
     independent : tuple of str
         Coordinates whose accelerations are the unknowns (reduced forms) -- or all.
     notes : tuple of str

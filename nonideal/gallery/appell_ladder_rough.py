@@ -90,7 +90,7 @@ give the physical accelerations (``run``: 3e-15).  Both ends sticking, the rows 
 (four on three coordinates: both no-slip rows say alpha' = 0) and the reactions of a ladder at
 rest are statically indeterminate: it stays at rest iff some distribution satisfies both
 friction cones, and the library reports the one with the widest margins
-(:mod:`nonideal.indeterminate`); at alpha = 0.4 (tested) F_A = 0, R_A^n = (m g/2) tan(alpha),
+(:mod:`nonideal.modes.indeterminate`); at alpha = 0.4 (tested) F_A = 0, R_A^n = (m g/2) tan(alpha),
 R_B^n = m g, F_B = -R_A^n, the wall's margin f_A R_A^n binding (steeper, F_A > 0 balances the
 two margins).  The forms agree on the accelerations (the reduced ones are derived without the
 dependent row).  A stronger push (alpha0 = 0.7,

@@ -25,7 +25,7 @@ and the gap acceleration g_A'' = y'' - l cos(theta) theta'' + l sin(theta) theta
     g_A'' = g_free'' + b N,     g_free'' = -g + l sin(theta) theta'^2,
     b(theta, mu) = (1/m) (1 + 3 cos^2(theta) + 3 mu s sin(theta) cos(theta)).
 
-(``nonideal.switching.effective_compliance`` is this Schur complement of ``G M^-1 B``.)  With
+(``nonideal.modes.switching.effective_compliance`` is this Schur complement of ``G M^-1 B``.)  With
 b > 0 sliding gives ``N = -g_free''/b`` (>= 0 exactly when separation would penetrate): a
 unique consistent answer.  b < 0 needs s = -1 -- the end A slides AWAY from the rod (towards
 -x, with the rod leaning towards +x) -- and
@@ -41,7 +41,7 @@ minimum 4/3 at tan(theta) = 2 (theta = 63.43 deg).  In that region:
 
 The library stops with :class:`~nonideal.errors.PainleveParadox` (CLI exit code 3) in both
 cases, naming the contact, the compliance b and the critical coefficient, and
-``nonideal.switching.critical_friction`` reproduces mu_c(theta) (for s = +1 it returns None:
+``nonideal.modes.switching.critical_friction`` reproduces mu_c(theta) (for s = +1 it returns None:
 no paradox).
 
 Normal case (mu = 0.5 < 4/3, theta0 = 1.1, x' = -1): A slides (s = -1) with

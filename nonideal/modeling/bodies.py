@@ -19,7 +19,7 @@ Loads become generalized forces by virtual work:
 
 Fields accept strings (parsed safely) or SymPy expressions; the :class:`~nonideal.model.Model`
 normalizes them.  These are plain value objects; the symbolic work happens in
-:mod:`nonideal.dynamics`.
+:mod:`nonideal.equations.dynamics`.
 """
 
 from __future__ import annotations

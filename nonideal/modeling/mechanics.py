@@ -7,7 +7,7 @@ orientations with ``frame.dcm(body.frame)``, central inertia tensors in the body
 loads (``Force``/``Torque`` objects or the classic ``(Point, Vector)`` / ``(ReferenceFrame,
 Vector)`` tuples) become forces at points and torques on rigid bodies, i.e. generalized forces
 by virtual work.  Velocities and accelerations are never taken from the points: the model is
-built from positions and orientations alone, and :mod:`nonideal.dynamics` derives the rest.
+built from positions and orientations alone, and :mod:`nonideal.equations.dynamics` derives the rest.
 
 Coordinates, initial values and constraint expressions may use ``dynamicsymbols``: ``q1(t)``
 is the coordinate ``q1``, ``q1'(t)`` its velocity ``q1'``.

@@ -3,9 +3,9 @@
 A model holds coordinates, parameters, the kinetic energy (an expression, bodies, or both),
 the potential energy, generalized forces and loads, constraints and contacts, an initial state
 and simulation settings.  Expressions may be given as strings (parsed by the safe parser of
-:mod:`nonideal.expressions`) or as SymPy expressions -- including
+:mod:`nonideal.modeling.expressions`) or as SymPy expressions -- including
 ``sympy.physics.mechanics.dynamicsymbols`` -- and are normalized to plain SymPy symbols named
-``x``, ``x'``, ``x''`` (see :mod:`nonideal.symbols`).
+``x``, ``x'``, ``x''`` (see :mod:`nonideal.modeling.symbols`).
 
 Everything that can be checked without mechanics is checked here, and every problem is
 reported at once (:class:`~nonideal.errors.ModelError`).

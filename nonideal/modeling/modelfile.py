@@ -22,22 +22,19 @@ file is reported at once with the file name.  Expressions go through the safe pa
 
 from __future__ import annotations
 
-import math
-import re
 import tomllib
-import unicodedata
 from pathlib import Path
 from collections.abc import Mapping
 from typing import Any
 
-import sympy as sp
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
 from ..errors import ModelError, did_you_mean, short_repr
-from .expressions import float_value, parse_expression
 from .limits import check_size, read_text
 from .model import Constraint, Model, resolve_parameters
+
+from .filechecks import Checker, control_characters, describe, is_expr, toml_problem, unknown_keys
 
 __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
 
@@ -99,7 +96,7 @@ def load_model(path: str | Path, parameters: Mapping[str, Any] | None = None) ->
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ModelError(_toml_problem(str(exc), text), source) from None
+        raise ModelError(toml_problem(str(exc), text), source) from None
     check_size(data, source)
     if parameters:
         data = override_parameters(data, parameters, source)
@@ -140,159 +137,6 @@ def override_parameters(data: dict[str, Any], values: Mapping[str, Any], source:
     return {**data, "parameters": new}
 
 
-def _toml_problem(message: str, text: str) -> str:
-    """The TOML parser's message plus the offending line with a caret."""
-    out = f"not valid TOML: {message}"
-    m = re.search(r"at line (\d+), column (\d+)", message)
-    if m:
-        line_no, col = int(m.group(1)), int(m.group(2))
-        lines = text.splitlines()
-        if 1 <= line_no <= len(lines):
-            line = lines[line_no - 1].replace("\t", " ")
-            out += f"\n    line {line_no}: {line}\n    {' ' * (len(str(line_no)) + 7 + col - 1)}^"
-    return out + ("\n    (TOML: strings in double quotes, a key with a prime in quotes as "
-                  "\"x'\" = 1.0, tables as [name], arrays of tables as [[constraints]])")
-
-
-def _control_characters(value: Any, where: str = "") -> list[str]:
-    """Strings with control characters (terminal escape sequences, a bell, a carriage
-    return...): printed back, they would act on the user's terminal.  A description may span
-    lines (newlines and tabs are allowed there)."""
-    if isinstance(value, dict):
-        return [p for k, v in value.items()
-                for p in _control_characters(v, f"{where} {k}" if where.endswith("]") else
-                                             f"{where}.{k}" if where else f"[{k}]")]
-    if isinstance(value, list):
-        return [p for i, v in enumerate(value) for p in _control_characters(v, f"{where}[{i}]")]
-    if not isinstance(value, str):
-        return []
-    allowed = "\n\t" if re.split(r"[ .]", where)[-1] in ("description", "source") else ""
-    bad = sorted({c for c in value if unicodedata.category(c) == "Cc" and c not in allowed})
-    if not bad:
-        return []
-    return [f"{where}: contains the control character(s) {', '.join(repr(c) for c in bad)}; "
-            "remove them (only plain text is allowed in a model file's strings"
-            + (", and newlines and tabs in a description)" if not allowed else ")")]
-
-
-def _unknown(keys, allowed, where: str) -> list[str]:
-    out = []
-    for k in keys:
-        if k not in allowed:
-            out.append(f"{where}: unknown key '{k}'{did_you_mean(str(k), allowed)}; allowed: "
-                       + ", ".join(sorted(allowed)))
-    return out
-
-
-def _is_number(value: Any) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
-
-
-def _is_expr(value: Any) -> bool:
-    return isinstance(value, str) or _is_number(value)
-
-
-class _Checker:
-    """Type checks of model-file values; every problem is appended to ``problems``."""
-
-    def __init__(self, problems: list[str]):
-        self.problems = problems
-        self.parameters: dict[str, float] = {}   # numeric values, for numbers given as expressions
-        self.parameter_names: set[str] = set()
-
-    def boolean(self, table: dict, key: str, where: str, default: bool = False) -> bool:
-        value = table.get(key, default)
-        if not isinstance(value, bool):
-            self.problems.append(f"{where}: {key} must be true or false (got {value!r})")
-            return default
-        return value
-
-    def number(self, table: dict, key: str, where: str, default, low=None, high=None,
-               positive: bool = False):
-        if key not in table:
-            return default
-        value = table[key]
-        if isinstance(value, str):   # an expression in the parameters, evaluated now
-            try:
-                expr = parse_expression(value, {n: sp.Symbol(n) for n in self.parameter_names},
-                                        f"{where}: {key}")
-                if any(s.name not in self.parameters for s in expr.free_symbols):
-                    return default   # a parameter without a value: reported with the parameters
-                value = float_value(expr, f"{where}: {key}", self.parameters)
-            except ModelError as exc:
-                self.problems += exc.problems
-                return default
-            except TypeError:   # not a real number
-                value = math.nan
-        ok = _is_number(value) and math.isfinite(value)
-        if ok and positive and not value > 0:
-            ok = False
-        if ok and low is not None and value < low or ok and high is not None and value > high:
-            ok = False
-        if not ok:
-            rng = (f" in [{low}, {high}]" if low is not None and high is not None
-                   else " > 0" if positive else "")
-            self.problems.append(f"{where}: {key} must be a number{rng}, or an expression in the "
-                                 f"parameters (got {table[key]!r})")
-            return default
-        return value
-
-    def expr(self, table: dict, key: str, where: str) -> bool:
-        value = table.get(key)
-        if not _is_expr(value):
-            self.problems.append(f"{where}: {key} must be an expression in quotes or a number "
-                                 f"(got {_describe(value)})")
-            return False
-        return True
-
-    def expr_list(self, table: dict, key: str, where: str, sizes=None, allow_scalar=False) -> bool:
-        value = table.get(key)
-        if allow_scalar and _is_expr(value):
-            value = [value]
-        if not isinstance(value, list) or not all(_is_expr(v) for v in value):
-            self.problems.append(f"{where}: {key} must be a list of expressions, e.g. "
-                                 f"{key} = [\"0\", \"1\"] (got {_describe(value)})")
-            return False
-        if sizes and len(value) not in sizes:
-            self.problems.append(f"{where}: {key} must have {' or '.join(map(str, sizes))} "
-                                 f"entries (got {len(value)})")
-            return False
-        return True
-
-    def matrix(self, table: dict, key: str, where: str, size=None) -> bool:
-        value = table.get(key)
-        if not (isinstance(value, list) and all(isinstance(r, list) and all(_is_expr(v) for v in r)
-                                                for r in value)):
-            self.problems.append(f"{where}: {key} must be a list of rows (lists of expressions), "
-                                 f"e.g. [[\"1\", \"0\"], [\"0\", \"1\"]] (got {_describe(value)})")
-            return False
-        if size is not None and (len(value) != size or any(len(r) != size for r in value)):
-            self.problems.append(f"{where}: {key} must be {size}x{size} (one row and column per "
-                                 "coordinate)")
-            return False
-        return True
-
-    def name(self, table: dict, where: str) -> bool:
-        value = table.get("name")
-        if not isinstance(value, str):
-            self.problems.append(f"{where}: name must be a string in quotes (got {_describe(value)})")
-            return False
-        return True
-
-
-def _describe(value: Any) -> str:
-    if value is None:
-        return "nothing"
-    kind = {bool: "a boolean", int: "a number", float: "a number", str: "a string",
-            list: "a list", dict: "a table"}.get(type(value), type(value).__name__)
-    return f"{kind} {_short_repr(value)}"
-
-
-def _short_repr(value: Any) -> str:
-    r = repr(value)
-    return r if len(r) <= 50 else r[:47] + "..."
-
-
 def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: str = "model") -> Model:
     """Build a :class:`Model` from the parsed TOML structure (see :func:`load_model`).
 
@@ -304,23 +148,23 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
         raise ModelError(f"model_from_dict: data must be a dict (the parsed TOML of a model file), "
                          f"got {type(data).__name__} {short_repr(data, 40)}", source)
     problems: list[str] = []
-    check = _Checker(problems)
-    problems += _unknown(data, TOP_KEYS, "top level")
-    problems += _control_characters(data)
+    check = Checker(problems)
+    problems += unknown_keys(data, TOP_KEYS, "top level")
+    problems += control_characters(data)
     for key in ("constraints", "contacts", "bodies", "loads"):
         items = data.get(key)
         for i, item in enumerate(items if isinstance(items, list) else []):
             if isinstance(item, dict) and "description" in item and not isinstance(item["description"], str):
                 label = item.get("name") if isinstance(item.get("name"), str) else f"#{i + 1}"
                 problems.append(f"[[{key}]] '{label}': description must be a string "
-                                f"(got {_describe(item['description'])})")
+                                f"(got {describe(item['description'])})")
     for section, allowed in SECTION_KEYS.items():
         if section in data:
             if not isinstance(data[section], dict):
                 problems.append(f"[{section}]: must be a table ([{section}] followed by "
                                 "key = value lines)")
             else:
-                problems += _unknown(data[section], allowed, f"[{section}]")
+                problems += unknown_keys(data[section], allowed, f"[{section}]")
 
     def table(key: str) -> dict:
         value = data.get(key, {})
@@ -340,11 +184,11 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
         )
     name = header.get("name", default_name)
     if not isinstance(name, str):
-        problems.append(f"[model] name: must be a string (got {_describe(name)})")
+        problems.append(f"[model] name: must be a string (got {describe(name)})")
         name = default_name
     description = header.get("description", "")
     if not isinstance(description, str):
-        problems.append(f"[model] description: must be a string (got {_describe(description)})")
+        problems.append(f"[model] description: must be a string (got {describe(description)})")
         description = ""
 
     coords = table("coordinates").get("q")
@@ -354,7 +198,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                         '[coordinates] q = ["x", "theta"]')
     elif not isinstance(coords, list) or not all(isinstance(c, str) for c in coords):
         problems.append(f"[coordinates] q: must be a list of names in quotes, e.g. "
-                        f"q = [\"x\", \"theta\"] (got {_describe(coords)})")
+                        f"q = [\"x\", \"theta\"] (got {describe(coords)})")
     else:
         coords_ok = True
     n_q = len(coords) if coords_ok else None
@@ -366,7 +210,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     params = dict(params)
     for pname, value in list(params.items()):
         if isinstance(value, dict):
-            problems += _unknown(value, {"value", "unit", "description"}, f"[parameters] {pname}")
+            problems += unknown_keys(value, {"value", "unit", "description"}, f"[parameters] {pname}")
             if "value" not in value:
                 problems.append(f"[parameters] {pname}: missing 'value', e.g. "
                                 f"{pname} = {{value = 1.0, unit = \"kg\"}}")
@@ -378,7 +222,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     for key in ("kinetic", "potential"):
         if key in energy:
             check.expr(energy, key, f"[energy] {key}")
-    energy = {k: v for k, v in energy.items() if k in ("kinetic", "potential") and _is_expr(v)}
+    energy = {k: v for k, v in energy.items() if k in ("kinetic", "potential") and is_expr(v)}
     forces = data.get("forces", {})
     if not isinstance(forces, dict):
         problems.append("[forces]: must be a table coordinate = expression")
@@ -388,7 +232,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     constraints = []
     for k, c in enumerate(_array_of_tables(data, "constraints", problems)):
         where = f"[[constraints]] #{k + 1}" + (f" '{c.get('name')}'" if "name" in c else "")
-        problems += _unknown(c, CONSTRAINT_KEYS, where)
+        problems += unknown_keys(c, CONSTRAINT_KEYS, where)
         missing = [key for key in ("name", "expr") if key not in c]
         if missing:
             problems.append(f"{where}: missing {' and '.join(missing)} (a constraint needs "
@@ -398,7 +242,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
         kind = c.get("type", "auto")
         if not isinstance(kind, str):
             problems.append(f"{where}: type must be \"holonomic\", \"nonholonomic\" or "
-                            f"\"servo\" (got {_describe(kind)})")
+                            f"\"servo\" (got {describe(kind)})")
             ok = False
         unilateral = check.boolean(c, "unilateral", where)
         restitution = check.number(c, "restitution", where, 0.0, 0.0, 1.0)
@@ -421,7 +265,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     contacts = []
     for k, c in enumerate(_array_of_tables(data, "contacts", problems)):
         where = f"[[contacts]] #{k + 1}" + (f" '{c.get('name')}'" if "name" in c else "")
-        problems += _unknown(c, CONTACT_KEYS, where)
+        problems += unknown_keys(c, CONTACT_KEYS, where)
         missing = [key for key in ("name", "gap", "slip") if key not in c]
         if missing:
             problems.append(f"{where}: missing {', '.join(missing)} (a contact needs name, "
@@ -470,7 +314,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
             problems.append(f"{where}: type {kind!r} unknown{did_you_mean(str(kind), BODY_KEYS)}; "
                             "use \"particle\", \"planar\" or \"rigid\"")
             continue
-        problems += _unknown(b, BODY_KEYS[kind], where)
+        problems += unknown_keys(b, BODY_KEYS[kind], where)
         missing = [key for key in BODY_KEYS[kind] - {"type"} if key not in b]
         if missing:
             problems.append(f"{where}: missing {', '.join(sorted(missing))}")
@@ -499,7 +343,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
             problems.append(f"{where}: type {kind!r} unknown{did_you_mean(str(kind), LOAD_KEYS)}; "
                             "use \"force\" or \"torque\"")
             continue
-        problems += _unknown(ld, LOAD_KEYS[kind], where)
+        problems += unknown_keys(ld, LOAD_KEYS[kind], where)
         if kind == "force":
             missing = [key for key in ("name", "point", "force") if key not in ld]
             if missing:
@@ -548,7 +392,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
         if isinstance(sim["method"], str):
             settings["method"] = sim["method"]
         else:
-            problems.append(f"[simulation] method: must be a string (got {_describe(sim['method'])})")
+            problems.append(f"[simulation] method: must be a string (got {describe(sim['method'])})")
     initial = data.get("initial", {})
     if not isinstance(initial, dict):
         problems.append("[initial]: must be a table name = value")
@@ -561,7 +405,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
         independent = forms["independent"]
         if not isinstance(independent, list) or not all(isinstance(v, str) for v in independent):
             problems.append(f"[forms] independent: must be a list of coordinate names "
-                            f"(got {_describe(independent)})")
+                            f"(got {describe(independent)})")
             independent = None
     gravity = table("gravity").get("vector")
     if gravity is not None and not check.expr_list(table("gravity"), "vector", "[gravity]", (2, 3)):

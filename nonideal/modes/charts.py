@@ -1,6 +1,6 @@
 """Charts of Lagrange II along a motion: which coordinates are kept, on which branch.
 
-Lagrange II (:mod:`nonideal.formalisms.lagrange2`) solves every ideal holonomic constraint for
+Lagrange II (:mod:`nonideal.equations.formalisms.lagrange2`) solves every ideal holonomic constraint for
 one dependent coordinate, ``q_d = phi_d(q_k, t)``.  That is a *chart* of the constraint
 manifold: the coordinates kept and, where a constraint has several roots, the branch
 (``x = +sqrt(l^2 - y^2)`` or ``-sqrt``).  A chart covers part of the manifold only.  It is
@@ -9,9 +9,9 @@ coordinates (``x = 0`` above: the rod vertical), and a motion that passes there 
 going over the top) must change charts.  This is the coordinate re-partitioning that the
 other reduced forms do (:func:`nonideal.modes.better_partition`), plus the choice of branch.
 
-:class:`Charts` does it for a :class:`~nonideal.modes.ModeSolver` after each evaluation of a
+:class:`Charts` does it for a :class:`~nonideal.modes.solver.ModeSolver` after each evaluation of a
 Lagrange II form, from the compiled outputs of the form (:attr:`FormSystem.last
-<nonideal.numeric.FormSystem.last>`, :func:`chart_outputs`):
+<nonideal.numeric.kernel.FormSystem.last>`, :func:`chart_outputs`):
 
 * the state must lie on the chart's branch (:func:`assess`): the equations read ``q_k``
   only, and on another branch they would give the motion of the mirror state;
@@ -80,7 +80,7 @@ ON, OTHER, UNKNOWN = 1, -1, 0
 
 def chart_outputs(eom) -> dict[str, list]:
     """The output ``chart`` that :func:`assess` reads, compiled with a Lagrange II form
-    (:class:`~nonideal.numeric.FormSystem`):
+    (:class:`~nonideal.numeric.kernel.FormSystem`):
 
     ``[verdict, max |r|, max |f - G_D r|, max |G_D r|, max |f|, max |R_D|, max |q|, sum r,
     max |G|]``
@@ -144,7 +144,7 @@ def assess(out: dict) -> tuple[int, float]:
 
 
 class Charts:
-    """The charts of Lagrange II that a :class:`~nonideal.modes.ModeSolver` moves through.
+    """The charts of Lagrange II that a :class:`~nonideal.modes.solver.ModeSolver` moves through.
 
     Parameters
     ----------

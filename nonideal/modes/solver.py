@@ -48,10 +48,10 @@ class ModeSolver:
     independent : tuple of str, optional
         Independent coordinates of the reduced forms, kept as given (no re-partitioning);
         for Lagrange II the first chart only (it changes charts where that one becomes
-        singular: :attr:`charts`, :mod:`nonideal.charts`).
+        singular: :attr:`charts`, :mod:`nonideal.modes.charts`).
     specialize : bool
         Lagrange I: use the compiled system of a mode once its structure is hot
-        (:class:`~nonideal.mode_system.ModeFunction`); ``False``: always the index path.
+        (:class:`~nonideal.modes.system.ModeFunction`); ``False``: always the index path.
 
     Attributes
     ----------
@@ -77,7 +77,7 @@ class ModeSolver:
         # {(structure, kept): [FormSystem]} (the charts of Lagrange II))
         entry = self.model.cached(("forms", form), lambda: ({}, {}))
         self._forms: dict[tuple, FormSystem] = entry[0]
-        #: Lagrange II: the charts the motion moves through (:class:`~nonideal.charts.Charts`)
+        #: Lagrange II: the charts the motion moves through (:class:`~nonideal.modes.charts.Charts`)
         self.charts = None
         if self.route.charts:
             from .charts import Charts
@@ -119,17 +119,17 @@ class ModeSolver:
         return x
 
     def system(self, mode: Mode):
-        """The :class:`~nonideal.mode_system.ModeSystem` of the structure of *mode* (cached per
+        """The :class:`~nonideal.modes.system.ModeSystem` of the structure of *mode* (cached per
         model)."""
         from .system import system_of
 
         return system_of(self.kernel, mode)
 
     def motion(self, t: float, y: np.ndarray, mode: Mode, kin: np.ndarray | None = None):
-        """The :class:`~nonideal.mode_system.Motion` at the state ``y = [q, q', ...]`` (lazy:
+        """The :class:`~nonideal.modes.motion.Motion` at the state ``y = [q, q', ...]`` (lazy:
         evaluated on first use; reuses :attr:`last` when it was solved at that state, and
         *kin*, the contact kernel's flat outputs at the state, when given)."""
-        from .system import Motion
+        from .motion import Motion
 
         return Motion(self, mode, t, y, kin)
 
@@ -169,7 +169,7 @@ class ModeSolver:
 
     def set_references(self, mode: "Mode", motion) -> None:
         """Record the slip direction of every two-component sliding contact at the state of
-        *motion* (a :class:`~nonideal.mode_system.Motion`; the simulation calls this at the
+        *motion* (a :class:`~nonideal.modes.motion.Motion`; the simulation calls this at the
         start of each step)."""
         self.reference = {}
         for c, (name, cs) in enumerate(mode.contacts):
@@ -215,7 +215,7 @@ class ModeSolver:
     # ------------------------------------------------------------------ reduced forms
     def _symbolic_rows(self, mode: Mode):
         """The symbolic rows of *mode* (in layout order, without the ideal rows that repeat the
-        others: :attr:`ModeSystem.dropped <nonideal.mode_system.ModeSystem.dropped>`) and the
+        others: :attr:`ModeSystem.dropped <nonideal.modes.system.ModeSystem.dropped>`) and the
         names of the sliding directions' inputs."""
         dyn = dynamics_of(self.model)
         rows = [self.kernel.rows[i] for i in self.rows(mode)]
@@ -246,7 +246,7 @@ class ModeSolver:
 
     def derive_form(self, mode: Mode, independent=None, branch=None) -> FormSystem:
         """Derive and compile the form for the structure of *mode* (not cached; *branch*:
-        Lagrange II's chart through these coordinates, see :func:`~nonideal.formalisms.derive`)."""
+        Lagrange II's chart through these coordinates, see :func:`~nonideal.equations.formalisms.derive`)."""
         rows, extra = self._symbolic_rows(mode)
         if branch is None and self.route.charts:
             branch = initial_branch(self.model)
@@ -356,7 +356,7 @@ class ModeSolver:
 
     def _solve_on_chart(self, mode: Mode, fs: FormSystem, Gm, layout, t, q, xb):
         """Lagrange II: ``(fs, fs.solve(xb))`` on the chart *fs*, or on the chart that
-        :meth:`Charts.check <nonideal.charts.Charts.check>` puts in its place (then the active
+        :meth:`Charts.check <nonideal.modes.charts.Charts.check>` puts in its place (then the active
         one of the structure)."""
         try:
             result = fs.solve(xb)
@@ -386,7 +386,7 @@ class ModeSolver:
 
         The multipliers of a mode with dependent rows (statically indeterminate) are the
         admissible distribution with the widest margins
-        (:func:`~nonideal.indeterminate.best_distribution`); with ``distribute=False`` the
+        (:func:`~nonideal.modes.indeterminate.best_distribution`); with ``distribute=False`` the
         minimum-norm one, which is cheaper (``Solution.particular``: for the accelerations).
 
         Raises
@@ -500,7 +500,7 @@ def _minimum_norm(M, F, B, G, gamma):
     """Redundant contacts (a body resting on more supports than it needs, both ends of a flat
     rod sticking): the accelerations are unique but the contact forces are statically
     indeterminate.  The accelerations and the minimum-norm forces, if the system is consistent
-    (:func:`~nonideal.indeterminate.best_distribution` then finds the forces reported)."""
+    (:func:`~nonideal.modes.indeterminate.best_distribution` then finds the forces reported)."""
     n, m = M.shape[0], G.shape[0]
     K = np.zeros((n + m, n + m))
     K[:n, :n] = M

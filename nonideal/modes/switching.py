@@ -114,7 +114,7 @@ def _onset_directions(solver: ModeSolver, t, q, qd, mode: Mode, c: int):
 
 def _consistent(solver, motion, mode, closed_uni, scales, onset_check=True):
     """Sign conditions of a candidate mode (see the module docstring) on its
-    :class:`~nonideal.mode_system.Motion`; *scales*: ``1 + max |q|``, ``1 + max |q'|`` and
+    :class:`~nonideal.modes.motion.Motion`; *scales*: ``1 + max |q|``, ``1 + max |q'|`` and
     ``1 + max |F|`` at the state."""
     kernel = solver.kernel
     sq, sv, sf = scales

@@ -1,32 +1,25 @@
-"""The motion in one mode, as the hybrid loop reads it: :class:`ModeSystem`,
-:class:`ModeFunction` and :class:`Motion`.
+"""The saddle-point system of a mode, as the hybrid loop solves it: :class:`ModeSystem` and
+:class:`ModeFunction` (the motion at a state read from them: :mod:`nonideal.modes.motion`).
 
 For Lagrange's equations of the first kind the motion in a mode is the saddle-point system
 
     [[M, B], [G, 0]] [q''; -lambda] = [F; -gamma]
 
-whose blocks are entries of the compiled kernels (:class:`~nonideal.numeric.Kernel`: ``M``,
-``F`` and every constraint row; :class:`~nonideal.contact_kernel.ContactKernel`: the contacts'
+whose blocks are entries of the compiled kernels (:class:`~nonideal.numeric.kernel.Kernel`: ``M``,
+``F`` and every constraint row; :class:`~nonideal.numeric.contact_kernel.ContactKernel`: the contacts'
 normal and slip rows).  A :class:`ModeSystem` is built once per mode structure and holds where
 every entry of that matrix and of its right-hand side sits in the kernels' flat outputs, so
 that one evaluation is two compiled calls writing into one buffer, one gather, one numeric
 update of each sliding contact's friction column ``-sigma mu s W`` (``s`` depends on the slip),
 and one LAPACK ``dgesv``, whose LU factors are kept: the effective normal compliance of a
-sliding contact (Painleve's watch, :class:`~nonideal.events.Jam`) then costs one more
+sliding contact (Painleve's watch, :class:`~nonideal.simulation.events.Jam`) then costs one more
 triangular solve.  It does the same floating-point operations as the general path
-(:meth:`ModeSolver.assemble <nonideal.modes.ModeSolver.assemble>` +
-:func:`~nonideal.numeric.solve_saddle`), which stays the reference and handles singular
+(:meth:`ModeSolver.assemble <nonideal.modes.solver.ModeSolver.assemble>` +
+:func:`~nonideal.numeric.kernel.solve_saddle`), which stays the reference and handles singular
 systems (minimum-norm contact forces, named errors).  Once a mode structure with contacts
 has been integrated :data:`SPECIALIZE_CALLS` times, :class:`ModeFunction` compiles its whole
 system (friction columns, slip direction and powers included): the NumPy calls around the
 compiled code, not the compiled code, were the cost of an evaluation.
-
-A :class:`Motion` is the motion at one state of one mode, computed on first use: an event
-that looks only at the slip or the gap (slip stop, touch) costs one contact-kernel call, no
-solve.  The solver remembers its last solve, which explicit Runge-Kutta methods make at the
-end of every accepted step (the "first same as last" stage), so the events, the drift check
-and the trajectory samples at a step end reuse it instead of solving again.  For the other
-forms a Motion wraps their :class:`~nonideal.modes.Solution`.
 """
 
 from __future__ import annotations
@@ -41,16 +34,16 @@ from ..numeric.contact_kernel import contact_kernel_of
 from ..modeling.contacts import RegularizedCoulomb
 from ..equations.dynamics import dynamics_of
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, Mode, RowSpec
-from ..numeric.kernel import Compiled, SingularMatrix, max_abs
+from ..numeric.kernel import Compiled, SingularMatrix
 
-__all__ = ["ModeSystem", "ModeFunction", "Motion", "system_of", "compliance_of", "SPECIALIZE_CALLS"]
+__all__ = ["ModeSystem", "ModeFunction", "system_of", "compliance_of", "SPECIALIZE_CALLS"]
 
 _dgesv, _dgetrs, _dposv = lapack.dgesv, lapack.dgetrs, lapack.dposv
 
 
 class ModeSystem:
     """The rows of one mode structure and, for Lagrange I, their assembly by index (shared by
-    every :class:`~nonideal.modes.ModeSolver` of the model: :func:`system_of`; its only state
+    every :class:`~nonideal.modes.solver.ModeSolver` of the model: :func:`system_of`; its only state
     is the count of right-hand-side evaluations and the compiled :class:`ModeFunction`).
 
     Parameters
@@ -73,7 +66,7 @@ class ModeSystem:
 
     Notes
     -----
-    Evaluations take the :class:`~nonideal.modes.ModeSolver` whose buffers they use: its input
+    Evaluations take the :class:`~nonideal.modes.solver.ModeSolver` whose buffers they use: its input
     ``x``, its output buffer ``z = [kernel outputs | contact outputs]`` and its slip references;
     the solver also remembers the last solve (``solver.last``).
     """
@@ -195,7 +188,7 @@ class ModeSystem:
         at its admissible states but for singular configurations).  Also sets
         :attr:`dropped`.  A dependent system is never factored: :meth:`factor` raises
         :class:`~nonideal.numeric.SingularMatrix`, and the general path
-        (:meth:`ModeSolver.accelerations <nonideal.modes.ModeSolver.accelerations>`) solves it."""
+        (:meth:`ModeSolver.accelerations <nonideal.modes.solver.ModeSolver.accelerations>`) solves it."""
         if self._dependent is None:
             # keep the non-ideal rows first, then every ideal row that adds to the rank
             order = [j for j in range(self.m) if not self._ideal[j]] + [j for j in range(self.m) if self._ideal[j]]
@@ -301,14 +294,14 @@ index path; the switch happens at the start of a phase, and the two paths agree 
 class ModeFunction:
     """The saddle-point system of one mode structure with contact rows, compiled as a whole.
 
-    One Lambdify (:class:`~nonideal.numeric.Compiled`) evaluates ``K`` in Fortran order with
+    One Lambdify (:class:`~nonideal.numeric.kernel.Compiled`) evaluates ``K`` in Fortran order with
     the sliding contacts' friction columns ``dg/dq - sigma mu s W`` built in (``s`` the slip
     direction: an input ``+-1`` for one component; ``rho U/|U|`` for two, ``rho = sign(U .
     s_ref)`` with the slip reference an input; ``U/sqrt(|U|^2 + eps^2)`` for the smooth law),
     ``[F; -gamma]``, ``B^T q'``, the friction part of it, the powers ``[P_nc, P_t]`` and, for
     two slip components, the guards ``|U| - 2e-12 (1 + |q'|)`` and ``U . s_ref``: where a guard
     fails (slip ~ 0, orientation undefined) the caller takes the index path of
-    :class:`ModeSystem`, whose :meth:`~nonideal.modes.ModeSolver.friction_shape` decides.
+    :class:`ModeSystem`, whose :meth:`~nonideal.modes.solver.ModeSolver.friction_shape` decides.
 
     Parameters
     ----------
@@ -447,194 +440,6 @@ class _NotCompiled(Exception):
 def system_of(kernel, mode: Mode) -> ModeSystem:
     """The (cached) :class:`ModeSystem` of *mode*'s structure for *kernel*."""
     return kernel.model.cached(("mode system", mode.structure), lambda: ModeSystem(kernel, mode))
-
-
-def cached(solver, t: float, y: np.ndarray, mode: Mode):
-    """The solver's last solve if it was at exactly this state (the same array) and mode."""
-    last = solver.last
-    if last is not None and last[1] is y and last[0] == t and last[2] is mode:
-        return last
-    return None
-
-
-class Motion:
-    """The motion in one mode at one state, computed on first use.
-
-    Parameters
-    ----------
-    solver : ModeSolver
-    mode : Mode
-    t : float
-    y : ndarray
-        ``[q, q', ...]`` (the integrator's state; not modified).
-    kin : ndarray, optional
-        The contact kernel's flat outputs at the state, when the caller has them (not modified).
-
-    Notes
-    -----
-    Read by the events (:mod:`nonideal.events`), the drift check and the trajectory samples.
-    Kinematic quantities (gap, slip, constraint residuals) need no solve.
-    """
-
-    __slots__ = ("system", "solver", "mode", "t", "y", "n", "_sol", "_lu", "_piv", "_solution", "_values",
-                 "_kin", "_obs", "_dyn")
-
-    def __init__(self, solver, mode: Mode, t: float, y: np.ndarray, kin: np.ndarray | None = None):
-        self.solver, self.mode = solver, mode
-        self.system = system_of(solver.kernel, mode)
-        self.t, self.y, self.n = t, y, self.system.n
-        self._sol = self._lu = self._piv = self._solution = None
-        self._values = self._obs = self._dyn = None
-        self._kin = kin
-        hit = cached(solver, t, y, mode)
-        if hit is not None:
-            self._sol, self._lu, self._piv = hit[3:]
-
-    @property
-    def q(self) -> np.ndarray:
-        return self.y[:self.n]
-
-    @property
-    def qd(self) -> np.ndarray:
-        return self.y[self.n:2 * self.n]
-
-    # ------------------------------------------------------------------ the motion
-    def _solved(self):
-        """``[q''; -lambda]`` (Lagrange I), or None when :attr:`_solution` holds the motion."""
-        if self._sol is None and self._solution is None:
-            if self.solver.route.saddle_point:
-                hit = cached(self.solver, self.t, self.y, self.mode)
-                try:
-                    self._sol, self._lu, self._piv = (hit or self._solve())[3:]
-                except SingularMatrix:
-                    pass
-            if self._sol is None:  # other forms, or a singular system: the general path
-                self._solution = self.solver.solve(self.t, self.q, self.qd, self.mode, distribute=False)
-        return self._sol
-
-    def _solve(self) -> tuple:
-        """Solve at this state (the compiled system of a hot mode, else the index path); the
-        solver's :attr:`last`."""
-        system, solver, mode = self.system, self.solver, self.mode
-        function = system.function if solver.specialize else None
-        if not (function and function.solve_with_powers(solver, function.inputs(solver, mode), self.t, self.y, mode)):
-            system.solve(solver, self.t, self.y, mode)
-        return solver.last
-
-    @property
-    def qdd(self) -> np.ndarray:
-        """Accelerations, shape (n_q,)."""
-        sol = self._solved()
-        return sol[:self.n] if sol is not None else self._solution.qdd
-
-    @property
-    def values(self) -> np.ndarray:
-        """Multipliers of the mode's rows (``system.layout`` order; for dependent rows the
-        admissible distribution with the widest margins, computed only when asked for)."""
-        if self._values is None:
-            sol = self._solved()
-            if sol is None and self._solution.particular:
-                self._solution = self.solver.solve(self.t, self.q, self.qd, self.mode)
-            self._values = -sol[self.n:] if sol is not None else self._solution.values
-        return self._values
-
-    def multiplier(self, row: int) -> float:
-        """Multiplier of kernel row *row* (0 when it is not active)."""
-        j = self.system.row_col.get(row)
-        return 0.0 if j is None else float(self.values[j])
-
-    def normal(self, c: int) -> float:
-        """Normal force of contact *c* (0 when separated)."""
-        j = self.system.normal_col.get(c)
-        return 0.0 if j is None else float(self.values[j])
-
-    def friction(self, c: int) -> np.ndarray:
-        """Friction force of contact *c* (its slip components)."""
-        cs = self.mode.contacts[c][1]
-        if cs.state == STICK:
-            return self.values[self.system.tangent_cols[c]]
-        if cs.state in (SLIDE, SMOOTH):
-            s = self.solver.friction_shape(c, cs, self.slip(c), self.qd)
-            return -cs.sigma * self.mu(c) * self.normal(c) * s
-        return np.zeros(self.solver.ck.dims[c])
-
-    def compliance(self, c: int) -> float:
-        """Effective normal compliance ``b = dg''/dN`` of touching contact *c* (Painleve's
-        paradox where it reaches zero while sliding)."""
-        self._solved()
-        if self._lu is not None:
-            return self.system.compliance(self._lu, self._piv, c)
-        sol = self._solution or self.solver.solve(self.t, self.q, self.qd, self.mode)
-        return compliance_of(sol.M, sol.Bm, sol.Gm, self.system.normal_col[c])
-
-    def _dynamics(self, name: str) -> np.ndarray:
-        """Output *name* of the kernel (``M, F, G, gamma, B``) at this state, flat."""
-        kd = self.solver.kernel.dynamics
-        if self._dyn is None:
-            self._dyn = kd.raw(self.solver.input(self.t, self.q, self.qd), np.empty(kd.size))
-        return self._dyn[kd.slices[name][0]]
-
-    def force_scale(self) -> float:
-        """``1 + max |F|`` (generalized forcing): the scale of force-like event tolerances."""
-        return 1.0 + max_abs(self._dynamics("F"))
-
-    def constraint_acc(self, row: int) -> float:
-        """``f'' = G q'' + gamma`` of kernel row *row* (a released unilateral constraint)."""
-        n = self.n
-        return float(self._dynamics("G")[row * n:(row + 1) * n] @ self.qdd + self._dynamics("gamma")[row])
-
-    # ------------------------------------------------------------------ kinematics
-    @property
-    def kin(self) -> np.ndarray:
-        """The contact kernel's flat outputs at this state (a copy)."""
-        if self._kin is None:
-            ck = self.solver.ck
-            self._kin = ck.fn.raw(self.solver.input(self.t, self.q, self.qd), np.empty(ck.size))
-        return self._kin
-
-    def slip(self, c: int) -> np.ndarray:
-        ck = self.solver.ck
-        o = ck.at["U"] + ck.offsets[c]
-        return self.kin[o:o + ck.dims[c]]
-
-    def gap(self, c: int) -> float:
-        return float(self.kin[self.solver.ck.at["gap"] + c])
-
-    def gap_rate(self, c: int) -> float:
-        return float(self.kin[self.solver.ck.at["gap_rate"] + c])
-
-    def mu(self, c: int) -> float:
-        return float(self.kin[self.solver.ck.at["mu"] + c])
-
-    def mu_s(self, c: int) -> float:
-        return float(self.kin[self.solver.ck.at["mu_s"] + c])
-
-    def gap_acc(self, c: int) -> float:
-        """``g'' = Gn q'' + gamma_n`` of contact *c*."""
-        ck, n = self.solver.ck, self.n
-        o = ck.at["Gn"] + c * n
-        return float(self.kin[o:o + n] @ self.qdd + self.kin[ck.at["gamma_n"] + c])
-
-    def slip_acc(self, c: int) -> np.ndarray:
-        """``U' = W q'' + gamma_U`` of contact *c*."""
-        ck, n = self.solver.ck, self.n
-        o, d = ck.offsets[c], ck.dims[c]
-        W = self.kin[ck.at["W"] + o * n:ck.at["W"] + (o + d) * n].reshape(d, n)
-        return W @ self.qdd + self.kin[ck.at["gamma_U"] + o:ck.at["gamma_U"] + o + d]
-
-    @property
-    def observables(self) -> dict:
-        """The kernel's observables (energies, constraint residuals ``pos``, ``vel``), copied."""
-        if self._obs is None:
-            out = self.solver.kernel.observables(self.solver.input(self.t, self.q, self.qd))
-            self._obs = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in out.items()}
-        return self._obs
-
-    def contact_record(self, c: int) -> tuple:
-        """``(state label, N, F, U, gap, mu_s)`` of contact *c* for a trajectory sample."""
-        at, kin = self.solver.ck.at, self.kin
-        return (self.mode.contacts[c][1].label(), self.normal(c), self.friction(c), self.slip(c),
-                kin[at["gap"] + c], kin[at["mu_s"] + c])
 
 
 def compliance_of(M: np.ndarray, B: np.ndarray, G: np.ndarray, j: int) -> float:

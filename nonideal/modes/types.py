@@ -142,7 +142,7 @@ class Solution:
         (``ModeSolver.solve(..., distribute=False)``), not the reported distribution
 
     For a mode with dependent rows (statically indeterminate reactions) ``values`` is the
-    admissible distribution with the widest margins (:mod:`nonideal.indeterminate`).
+    admissible distribution with the widest margins (:mod:`nonideal.modes.indeterminate`).
     """
 
     qdd: np.ndarray

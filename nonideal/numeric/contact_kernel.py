@@ -5,7 +5,7 @@ For every contact ``c`` (in model order) the callable returns ``gap[c]``, ``gap_
 and for every slip component ``r`` (contacts' components concatenated; ``offsets[c]`` is the
 first of contact ``c``) ``U[r]``, ``W[r]`` (``dU/dq'``), ``gamma_U[r]`` (``U' = W q'' + gamma_U``).
 ``at[name]`` is where each output starts in the flat output array (``W`` row-major, shape
-``(components, n_q)``), for the index-based fast path of :mod:`nonideal.mode_system`.
+``(components, n_q)``), for the index-based fast path of :mod:`nonideal.modes.system`.
 """
 
 from __future__ import annotations

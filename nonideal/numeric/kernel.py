@@ -17,7 +17,7 @@ would have a removable singularity are harmless.
   (no fast-math).
 * :class:`Kernel` -- the model-level functions (``M, F`` and every constraint row; energies,
   residuals) shared by the simulation, the reactions and the checks.
-* :class:`FormSystem` -- the compiled equations of one :class:`~nonideal.eom.EquationsOfMotion`.
+* :class:`FormSystem` -- the compiled equations of one :class:`~nonideal.equations.eom.EquationsOfMotion`.
 """
 
 from __future__ import annotations
@@ -361,7 +361,7 @@ class FormSystem:
         Names of further inputs, after the parameters (e.g. slip directions).
     extra_outputs : mapping name -> expressions, optional
         Further expressions of the inputs compiled with the equations (e.g. the chart test
-        of Lagrange II, :func:`nonideal.charts.chart_outputs`); their names are kept in the
+        of Lagrange II, :func:`nonideal.modes.charts.chart_outputs`); their names are kept in the
         attribute of that name.
     """
 

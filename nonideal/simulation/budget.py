@@ -27,7 +27,7 @@ from ..errors import ModelError
 from ..modeling.arguments import real_number, require_form, require_mapping, require_model, sample_times
 
 __all__ = ["MAX_SAMPLES", "MAX_TIMES", "MAX_STEPS", "PROBE_STEPS", "SampleBuffer", "StepBudget",
-           "check_times", "check_arguments"]
+           "check_times", "check_arguments", "sample_dense"]
 
 MAX_SAMPLES = 100_000
 """Step samples kept by default (events and requested times come on top)."""
@@ -128,3 +128,13 @@ def check_arguments(model, t_end, times, form, options: dict) -> None:
     if limit is not None and (isinstance(limit, bool) or not isinstance(limit, numbers.Integral)
                               or limit < 2):
         raise ModelError(f"{f}: max_samples must be an integer >= 2 or None, got {limit!r}")
+
+
+def sample_dense(dense, t_old, t_new, times, next_time, mode, emit) -> int:
+    """Emit the requested *times* in ``[t_old, t_new]`` from the dense output; the index of
+    the next one."""
+    while next_time < times.size and times[next_time] <= t_new:
+        if times[next_time] >= t_old:
+            emit(times[next_time], dense(times[next_time]), mode)
+        next_time += 1
+    return next_time

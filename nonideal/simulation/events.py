@@ -2,7 +2,7 @@
 
 An event has a scalar ``value(motion)`` whose sign change (from positive to non-positive) marks
 the switch, a ``kind`` and the name of the constraint or contact it concerns.  It reads the
-:class:`~nonideal.mode_system.Motion` at a state, which computes only what is asked: a slip
+:class:`~nonideal.modes.motion.Motion` at a state, which computes only what is asked: a slip
 stop or a touch needs the kinematics, not the accelerations.  The driver locates the root on
 the integrator's dense output (Brent's method) and then asks the mode selection what happens
 next.  Nothing is patched onto functions.

@@ -1,7 +1,7 @@
 """Event guards that a long step cannot skip.
 
 The hybrid loop watches each event function ``g`` (a gap, a slip velocity, a normal force, the
-margin of the friction cone: :mod:`nonideal.events`) for a change of sign from positive to
+margin of the friction cone: :mod:`nonideal.simulation.events`) for a change of sign from positive to
 non-positive.  Comparing ``g`` at the two ends of an accepted step misses every event whose
 function goes through zero and back within the step: a slip that stops and restarts within one
 step (the stiff stick-slip oscillator, where sticking lasts microseconds), a ball that leaves
@@ -10,7 +10,7 @@ of free flight, which it integrates exactly).  A :class:`StepScan` reads the int
 dense output inside the step instead:
 
 1. the event functions are sampled at :data:`PROBES` interior points of the step and just
-   inside its ends (one :class:`~nonideal.mode_system.Motion` per point, shared by all the
+   inside its ends (one :class:`~nonideal.modes.motion.Motion` per point, shared by all the
    events) -- always the kinematic ones (gaps, slips: no solve), the forces (normal force,
    friction cone margin, multiplier: a solve of the mode each) when the step brings them
    within :data:`PROBE_NEAR` times their change across it of zero;
@@ -33,7 +33,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from ..modes.system import Motion
+from ..modes.motion import Motion
 
 __all__ = ["PROBES", "StepScan", "Step", "event_hits"]
 
@@ -154,7 +154,7 @@ class StepScan:
 
 class Step:
     """One accepted step of the integrator, read lazily: the dense output and the
-    :class:`~nonideal.modes.system.Motion` at any time of the step (cached, shared by the
+    :class:`~nonideal.modes.motion.Motion` at any time of the step (cached, shared by the
     event guards and the regularity guard)."""
 
     def __init__(self, solver, mode, ode, motion):

@@ -2,8 +2,8 @@
 
 Design (as recommended for hybrid systems): integrate one smooth phase with a fixed mode,
 stepping the solver by hand; after each accepted step evaluate the event functions of the
-mode (:mod:`nonideal.events`), locate the earliest sign change on the dense output with
-Brent's method, apply the switch (impact law, mode selection of :mod:`nonideal.switching`)
+mode (:mod:`nonideal.simulation.events`), locate the earliest sign change on the dense output with
+Brent's method, apply the switch (impact law, mode selection of :mod:`nonideal.modes.switching`)
 and restart the solver from the new state.
 
 State: ``y = [q, q', W]`` -- all coordinates and velocities (whatever formalism evaluates the
@@ -29,14 +29,15 @@ from ..numeric.consistency import complete_state, project_state
 from ..errors import IntegrationFailed, ModelError, PainleveParadox
 from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, transition
 from ..modeling.model import Model
-from ..modes.system import Motion
+from ..modes.motion import Motion
 from ..modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
 from ..modes.solver import ModeSolver
-from ..numeric.kernel import SingularMatrix, kernel_of, max_abs, parameter_vector
+from ..numeric.kernel import kernel_of, max_abs, parameter_vector
 from ..modes.switching import effective_compliance, impact, select_mode, validate_state
-from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times
+from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
 from .guards import Step, event_hits
 from .singular import Regularity, mass_stall, servo_stall
+from .rhs import phase_rhs
 from .trajectory import Sample, Trajectory
 from .zeno import Accumulation, ImpactSeries
 
@@ -69,12 +70,12 @@ class Simulation:
         Integrator settings; default from the model's ``[simulation]``.
     independent : tuple of str, optional
         Independent coordinates for the reduced forms (Lagrange II: those of the first chart;
-        ``diagnostics["chart_changes"]`` counts the changes of chart, :mod:`nonideal.charts`).
+        ``diagnostics["chart_changes"]`` counts the changes of chart, :mod:`nonideal.modes.charts`).
     detect_jam : bool
         Watch the effective normal compliance of sliding contacts (Painleve's paradox).
     specialize : bool
         Compile the saddle-point system of a mode with contacts once its structure has been
-        integrated :data:`~nonideal.mode_system.SPECIALIZE_CALLS` times (faster; it agrees
+        integrated :data:`~nonideal.modes.system.SPECIALIZE_CALLS` times (faster; it agrees
         with the index path to rounding).  ``False`` keeps the index path, so that a run
         gives bit-identical results whatever ran before it in the process.
     """
@@ -106,94 +107,8 @@ class Simulation:
 
     # ------------------------------------------------------------------ right-hand side
     def rhs(self, mode: Mode):
-        """The right-hand side ``f(t, y)`` of a phase in *mode*, ``y = [q, q', W]``.
-
-        Lagrange I evaluates the mode's :class:`~nonideal.mode_system.ModeSystem` (assembled
-        by index; the powers of the reactions from the same solve); the other forms, and a
-        singular system, take the general path of :meth:`ModeSolver.accelerations`.
-        """
-        if self.solver.route.saddle_point:
-            return self._lagrange1_rhs(mode)
-        return self._general_rhs(mode)
-
-    def _lagrange1_rhs(self, mode: Mode):
-        n, solver = self.n, self.solver
-        system = solver.system(mode)
-        general = self._general_rhs(mode)  # singular: minimum-norm contact forces or a named error
-
-        if not self.track:
-            def fun(t, y):
-                try:
-                    sol = system.solve(solver, t, y, mode)
-                except SingularMatrix:
-                    return general(t, y)
-                return np.concatenate((y[n:2 * n], sol[:n]))
-            return fun
-
-        # the compiled system, once this mode structure has been integrated long enough
-        function = system.specialized(self.kernel, mode) if solver.specialize else None
-        x = function.inputs(solver, mode) if function else None
-
-        def fun(t, y):
-            try:
-                out = function.solve_with_powers(solver, x, t, y, mode) if function else None
-                if out is None:
-                    out = system.solve_with_powers(solver, t, y, mode)
-            except SingularMatrix:
-                return general(t, y)
-            sol, P_R, P_f, P = out
-            dy = np.empty_like(y)
-            dy[:n] = y[n:2 * n]
-            dy[n:2 * n] = sol[:n]
-            # works: active, reactions, explicit time, friction, impacts (changed at switches)
-            dy[2 * n:] = (0.0, P_R, 0.0, P_f, 0.0) if P is None else (P[0], P_R, P[1], P_f, 0.0)
-            return dy
-        return fun
-
-    def _general_rhs(self, mode: Mode):
-        n, solver, track = self.n, self.solver, self.track
-        kernel = self.kernel
-
-        if not track:
-            def fun(t, y):
-                qdd = solver.accelerations(t, y[:n], y[n:2 * n], mode)[0]
-                return np.concatenate((y[n:2 * n], qdd))
-            return fun
-
-        powers = kernel.has_nc_forces or kernel.explicit_time
-        friction = self.contacts and any(cs.state != SEPARATED for _, cs in mode.contacts)
-
-        def fun(t, y):
-            q, qd = y[:n], y[n:2 * n]
-            dy = np.empty_like(y)
-            dy[:n] = qd
-            if friction:
-                qdd, values, layout, out, cout = solver.accelerations(t, q, qd, mode)
-                if values is None:  # a reduced form: recover the multipliers
-                    sol = solver.solve(t, q, qd, mode)
-                    R = sol.M @ sol.qdd - sol.F
-                    qdd, P_f = sol.qdd, sum(float(cf.F @ cf.U) for cf in sol.contacts.values() if cf.F.size)
-                else:
-                    P_f = solver.friction_power(mode, layout, values, cout)
-                    R = out["M"] @ qdd - out["F"]
-            else:
-                qdd, values, layout, out, cout = solver.accelerations(t, q, qd, mode)
-                P_f = 0.0
-                R = out["M"] @ qdd - out["F"] if layout else None
-            dy[n:2 * n] = qdd
-            # power of the total generalized reaction R = M q'' - F, split into the friction's
-            # power on the slips, sum F . U (never positive), and the rest (ideal and servo
-            # reactions, and what moving supports put in through friction)
-            dy[2 * n + 1] = (R @ qd - P_f) if R is not None else 0.0
-            dy[2 * n + 3] = P_f
-            dy[2 * n + 4] = 0.0  # impacts change it only at switches
-            if powers:
-                P = kernel.dynamics(solver.input(t, q, qd))["P"]
-                dy[2 * n], dy[2 * n + 2] = P
-            else:
-                dy[2 * n] = dy[2 * n + 2] = 0.0
-            return dy
-        return fun
+        """The right-hand side ``f(t, y)`` of a phase in *mode* (:func:`~nonideal.simulation.rhs.phase_rhs`)."""
+        return phase_rhs(self, mode)
 
     # ------------------------------------------------------------------ events
     def events(self, mode: Mode, t: float, y: np.ndarray) -> list[Event]:
@@ -358,7 +273,7 @@ class Simulation:
     # ------------------------------------------------------------------ main loop
     def initial_state(self, initial: Mapping[str, float] | None = None):
         """The initial ``(q, q')``: the model's values with the overrides *initial*, completed
-        and checked by :func:`~nonideal.consistency.complete_state` (a pure function of the
+        and checked by :func:`~nonideal.numeric.consistency.complete_state` (a pure function of the
         model, the parameters and the values: memoized)."""
         given = dict(self.model.numeric_initial())
         given.update(initial or {})
@@ -390,7 +305,7 @@ class Simulation:
             Overrides of initial values.
         stop_on : set of str, optional
             Event types (``"slip"``, ``"stick"``, ``"reverse"``, ``"lift-off"``, ``"release"``...;
-            see :mod:`nonideal.events`) that end the run at the event (the last sample is the
+            see :mod:`nonideal.simulation.events`) that end the run at the event (the last sample is the
             state at the event, before the switch).  An event whose kind is listed stops
             before the next mode is selected; the others stop when the selected switch is of
             a listed type.
@@ -507,7 +422,7 @@ class Simulation:
                     if times is None:
                         emit(te, ye, mode)  # the state at the event, before the switch
                     else:
-                        next_time = self._sample_dense(step.dense, t_old, te, times, next_time, mode, emit)
+                        next_time = sample_dense(step.dense, t_old, te, times, next_time, mode, emit)
                     # stop on the kind the event watches, or on what the switch would do
                     switched = None if stop_on and events[k].kind in stop_on else \
                         self._switch(te, ye, mode, events[k])
@@ -555,13 +470,13 @@ class Simulation:
                     g_new = [ev.value(motion) for ev in events]
                 g_prev = g_new
                 # drift control
-                res_p, res_v = self._residuals(motion, mode, drift)
+                res_p, res_v = motion.residuals(drift)
                 residual_max["position"] = max(residual_max["position"], res_p)
                 residual_max["velocity"] = max(residual_max["velocity"], res_v)
                 scale = 1.0 + max_abs(ode.y[:2 * n])
                 if max(res_p, res_v) > PROJECTION_TOL * scale:
                     if times is not None:
-                        next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times,
+                        next_time = sample_dense(ode.dense_output(), t_old, t_new, times,
                                                        next_time, mode, emit)
                     y = ode.y.copy()
                     q, qd = self._project(mode, t_new, y[:n], y[n:2 * n])
@@ -574,7 +489,7 @@ class Simulation:
                 if times is None:
                     emit(t_new, ode.y, mode, motion, step=True)
                 else:
-                    next_time = self._sample_dense(ode.dense_output(), t_old, t_new, times, next_time,
+                    next_time = sample_dense(ode.dense_output(), t_old, t_new, times, next_time,
                                                    mode, emit)
                 t, y = t_new, ode.y
                 if ode.status == "finished":
@@ -625,35 +540,6 @@ class Simulation:
                     f"Painleve paradox at contact '{name}': the integration stalled while the "
                     f"effective normal compliance b = {b:.3g} of the sliding contact vanished -- the "
                     "normal force grows without bound (dynamic jamming)", ode.t, state)
-
-    @staticmethod
-    def _residuals(motion: Motion, mode: Mode, drift):
-        """Position and velocity residuals of the mode's rows at a state; *drift* = ``(pos,
-        vel)``, the active kernel rows with a position / velocity level."""
-        pos, vel = drift
-        rp = rv = 0.0
-        if pos or vel:
-            obs = motion.observables
-            rp = float(np.abs(obs["pos"][pos]).max()) if pos else 0.0
-            rv = float(np.abs(obs["vel"][vel]).max()) if vel else 0.0
-        for c, (name, cs) in enumerate(mode.contacts):
-            if cs.state == SEPARATED:
-                continue
-            rp = max(rp, abs(motion.gap(c)))
-            rv = max(rv, abs(motion.gap_rate(c)))
-            if cs.state == STICK:
-                rv = max(rv, max_abs(motion.slip(c)))
-        return rp, rv
-
-    @staticmethod
-    def _sample_dense(dense, t_old, t_new, times, next_time, mode, emit):
-        """Emit the requested *times* in ``[t_old, t_new]`` from the dense output; the index
-        of the next one."""
-        while next_time < times.size and times[next_time] <= t_new:
-            if times[next_time] >= t_old:
-                emit(times[next_time], dense(times[next_time]), mode)
-            next_time += 1
-        return next_time
 
 
 def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | None = None,

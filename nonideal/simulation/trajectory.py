@@ -70,7 +70,7 @@ class Trajectory:
     contact forces are the admissible distribution with the widest margins -- the one that
     maximizes the smallest of ``N``, ``mu_s N - |F|`` and the held multipliers among the
     contacts whose reactions are indeterminate, and among several such the one of least norm
-    (:mod:`nonideal.indeterminate`); the slip and lift-off events fire when no admissible
+    (:mod:`nonideal.modes.indeterminate`); the slip and lift-off events fire when no admissible
     distribution is left.
     """
 

@@ -1,7 +1,7 @@
 """The classical forms of the equations of motion, one module each.
 
 :func:`derive` is the entry point: ``derive(model, "maggi")`` returns an
-:class:`~nonideal.eom.EquationsOfMotion`.  :data:`FORMS` maps the CLI names to the classes:
+:class:`~nonideal.equations.eom.EquationsOfMotion`.  :data:`FORMS` maps the CLI names to the classes:
 
 =============  ===========================================================================
 ``lagrange1``  Lagrange I: every constraint keeps its multiplier (:mod:`.lagrange1`)

@@ -4,9 +4,9 @@ Checklist for implementing a formalism (read before adding one):
 
 1. Subclass :class:`Formalism`; set ``name`` (the CLI's ``--form``), ``title`` and ``citation``
    (source and equation numbers; say which code name is which symbol).
-2. Implement :meth:`Formalism.derive` taking the kernel :class:`~nonideal.dynamics.Dynamics`,
+2. Implement :meth:`Formalism.derive` taking the kernel :class:`~nonideal.equations.dynamics.Dynamics`,
    the constraint rows to respect and the user's choice of independent coordinates; return an
-   :class:`~nonideal.eom.EquationsOfMotion` filled completely: ``A, c, Q_f`` (dynamics),
+   :class:`~nonideal.equations.eom.EquationsOfMotion` filled completely: ``A, c, Q_f`` (dynamics),
    ``B, G, gamma`` for the multipliers the form keeps, and ``R, r`` mapping the form's
    unknowns back to all accelerations.
 3. Raise :class:`~nonideal.errors.FormNotApplicable` naming the form that applies instead when
@@ -14,7 +14,7 @@ Checklist for implementing a formalism (read before adding one):
 4. Symbolic work stays cheap: no ``simplify``, no symbolic inversion beyond the dependent block
    of the constraints (use :func:`reduce_velocities`, which falls back to auxiliary symbols
    solved numerically when the explicit inverse would blow up).
-5. Register the class in :data:`nonideal.formalisms.FORMS` and add the form to the
+5. Register the class in :data:`nonideal.equations.formalisms.FORMS` and add the form to the
    cross-form agreement tests (every gallery model, random admissible states).
 """
 

@@ -24,7 +24,7 @@ several roots the one through the model's initial state is taken (completed from
 constraints, as the simulation does, when dependent values are not given), else the first
 real one, or the one through the point *branch* (``derive(..., branch=)``).  The equations
 hold on that chart only (e.g. ``y1 = sqrt(l^2 - (x1 - x)^2)`` needs ``y1 > 0``); the
-simulation changes charts along the motion (:mod:`nonideal.charts`).
+simulation changes charts along the motion (:mod:`nonideal.modes.charts`).
 :class:`FormNotApplicable` is raised when no closed-form solution exists.
 
 Without holonomic constraints to eliminate this is Lagrange's form with multipliers in the
