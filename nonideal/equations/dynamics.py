@@ -1,4 +1,4 @@
-"""The symbolic kernel shared by every formalism (SymEngine, computed once per model).
+"""The symbolic dynamics shared by every formalism (SymEngine, computed once per model).
 
 For a :class:`~nonideal.model.Model` it builds
 
@@ -521,7 +521,7 @@ def _source(model: Model) -> str | None:
 
 
 def dynamics_of(model: Model) -> Dynamics:
-    """The (cached) symbolic kernel of *model*.  Models are immutable, so caching is safe."""
+    """The (cached) symbolic dynamics of *model*.  Models are immutable, so caching is safe."""
     return model.cached("dynamics", lambda: Dynamics(model))
 
 

@@ -1,6 +1,6 @@
 """Equations a mechanician can read, fast: targeted rewriting instead of ``simplify``.
 
-The symbolic kernel builds the equations of motion as SymEngine expressions in whatever
+The symbolic dynamics (:mod:`nonideal.equations.dynamics`) builds the equations of motion as SymEngine expressions in whatever
 shape the derivation left them (``m*(l**2*sin(q)**2 + l**2*cos(q)**2)*q''``).  This module
 prints them the way a textbook writes them,
 

@@ -24,7 +24,7 @@ from .base import Formalism
 __all__ = ["Lagrange1"]
 
 
-def kernel_equations(dyn: Dynamics, rows: list[ConstraintRow]):
+def lagrange1_equations(dyn: Dynamics, rows: list[ConstraintRow]):
     """``(A, c, Q_f, B, G, gamma)`` of Lagrange I for *rows*."""
     n, m = dyn.n, len(rows)
     B = se.zeros(n, m)
@@ -46,7 +46,7 @@ class Lagrange1(Formalism):
                 "Chetaev's rule for nonlinear nonholonomic constraints")
 
     def derive(self, dyn, rows, independent):
-        A, c, Q, B, G, gamma = kernel_equations(dyn, rows)
+        A, c, Q, B, G, gamma = lagrange1_equations(dyn, rows)
         n = dyn.n
         names = tuple(f"lambda_{r.name}" for r in rows)
         return EquationsOfMotion(

@@ -55,7 +55,7 @@ from ...modeling.model import Model
 from ...modeling.symbols import t as t_sp
 from ...modeling.symbols import to_se, to_sp
 from .base import Formalism, Reduction, project_rows
-from .lagrange1 import kernel_equations
+from .lagrange1 import lagrange1_equations
 
 __all__ = ["Lagrange2", "Chart", "holonomic_chart", "reduced_model"]
 
@@ -494,7 +494,7 @@ class Lagrange2(Formalism):
         coords = list(dyn.model.coordinates)
         n = dyn.n
         if not elim:
-            A, c, Q, B, G, gamma = kernel_equations(dyn, kept_rows)
+            A, c, Q, B, G, gamma = lagrange1_equations(dyn, kept_rows)
             notes = ["no ideal holonomic constraint to eliminate: the model's coordinates are kept"]
             if kept_rows:
                 notes.append("multipliers for " + ", ".join(r.name for r in kept_rows)
