@@ -326,6 +326,7 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
     indep = [names_q.index(c) for c in (independent or model.independent or ()) if c in names_q]
     part = partition(pt.blocks(q, v), n, indep, model)
     q, v = pt.complete(q, v, part)
+    _given_dependent_velocities(model, num_given, v, part, names_v)
     guess_q, guess_v = q.copy(), v.copy()
     cyclic, free_velocities = _ignorable(pt, q, v, part, names_q)
     kept = [j for j in part.coords_I if j not in cyclic]          # at rest in a steady motion
@@ -533,3 +534,26 @@ def _exact(num: float) -> sp.Expr:
 
 def _src(model: Model):
     return None if model.source == "<api>" else model.source
+
+
+def _given_dependent_velocities(model: Model, given: dict[str, float], v: np.ndarray, part,
+                                names_v: list[str]) -> None:
+    """A velocity given in ``--at`` that the constraints make dependent is recomputed from the
+    independent ones: refuse it when the recomputed value differs, rather than linearize
+    silently about another state (e.g. a wheel's spin given while the constraints take it from
+    the other wheel's)."""
+    wrong = []
+    for j in part.vel_D:
+        name = names_v[j]
+        if name in given:
+            want = given[name]
+            if abs(v[j] - want) > 1e-9 * max(1.0, abs(want)):
+                wrong.append(f"{name} = {want:.10g}")
+    if wrong:
+        independent = ", ".join(names_v[j] for j in part.vel_I)
+        raise ModelError(
+            f"--at: {', '.join(wrong)} cannot be held: the constraints fix "
+            f"{'this velocity' if len(wrong) == 1 else 'these velocities'} from the independent "
+            f"ones ({independent}), and with the values given they come out different; give the "
+            "state by the independent velocities (or choose them with [forms] independent)",
+            _src(model))

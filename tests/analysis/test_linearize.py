@@ -105,3 +105,18 @@ def test_dependent_constraint_rows_make_the_linearization_undefined():
                   initial={"x": 0.0, "y": -1.0})
     with pytest.raises(LinearizationUndefined, match="dependent"):
         linearize(model, at={"x": 0.0, "y": -1.0})
+
+
+def test_a_given_dependent_velocity_is_not_silently_replaced():
+    """The rolling disk's x' follows from psi', theta', phi' (rolling): a steady state asked with
+    x' = 9 while the constraints give x' = r phi' cos(psi) is refused, naming the velocity and
+    the independent ones -- it must never be linearized about another state."""
+    from nonideal import ModelError, gallery
+    from nonideal.analysis.linearize import linearize
+
+    model = gallery.load("rolling-disk")
+    with pytest.raises(ModelError, match=r"x' = 9 cannot be held.*psi', theta', phi'"):
+        linearize(model, about="steady", at={"x'": 9.0})
+    # the value the constraints give is accepted
+    r, w = model.parameter_values["r"], 5.0
+    assert linearize(model, about="steady", at={"phi'": w, "x'": r * w}).verdict
