@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from .common import json_option, model_argument, load_spec, check_options
-from .outputs import Outputs, emit_json
+from .outputs import emit_report
 
 
 def add_parser(sub, ctx) -> None:
@@ -22,10 +22,4 @@ def run(args) -> int:
     check_options(args)
     model = load_spec(args.model, args.set)
     report = check_model(model)
-    outputs = Outputs()
-    if args.json:
-        emit_json(args, report.to_dict(), outputs)
-    else:
-        print(report.as_text())
-    outputs.commit()
-    return 0
+    return emit_report(args, report)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..errors import MechanicsError
 from .common import json_option, model_argument, load_spec, check_options, parse_at, parse_independent, explained, form_type
-from .outputs import Outputs, emit_json
+from .outputs import emit_report
 
 
 def add_parser(sub, ctx) -> None:
@@ -33,10 +33,4 @@ def run(args) -> int:
         ev = evaluate(model, at=at, t=args.t, form=args.form, independent=independent)
     except MechanicsError as exc:
         raise explained(model, exc) from None
-    outputs = Outputs()
-    if args.json:
-        emit_json(args, ev.to_dict(), outputs)
-    else:
-        print(ev.as_text())
-    outputs.commit()
-    return 0
+    return emit_report(args, ev)

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ..errors import ModelError
 
-__all__ = ["Outputs", "destination", "emit_json", "output_problems"]
+__all__ = ["Outputs", "destination", "emit_json", "output_problems", "emit_report"]
 
 
 def destination(path: Path) -> tuple[Path, bool]:
@@ -184,3 +184,15 @@ def emit_json(args, payload: dict, outputs: Outputs) -> None:
         print(text)
     else:
         outputs.add("--json", args.json, lambda tmp: Path(tmp).write_text(text + "\n"))
+
+
+def emit_report(args, result) -> int:
+    """Print *result* (an object with ``to_dict()`` and ``as_text()``) as text, or as JSON
+    with ``--json [OUT]``; the command's usual ending (exit code 0)."""
+    outputs = Outputs()
+    if args.json:
+        emit_json(args, result.to_dict(), outputs)
+    else:
+        print(result.as_text())
+    outputs.commit()
+    return 0

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..errors import ModelError
 from .common import json_option, model_argument, load_spec, check_options, parse_at
-from .outputs import Outputs, emit_json
+from .outputs import emit_report
 
 
 def add_parser(sub, ctx) -> None:
@@ -47,10 +47,4 @@ def run(args) -> int:
     else:
         at = parse_at(model, args.at)
         report = realizability(model, at=at, t=args.t, contacts=contacts)
-    outputs = Outputs()
-    if args.json:
-        emit_json(args, report.to_dict(), outputs)
-    else:
-        print(report.as_text())
-    outputs.commit()
-    return 0
+    return emit_report(args, report)
