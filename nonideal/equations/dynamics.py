@@ -216,17 +216,22 @@ class Dynamics:
         if T != 0:
             p = [se.diff(T, v) for v in self.qd]
             for i in range(n):
+                present = p[i].free_symbols
                 for j in range(i, n):
-                    M[i][j] = se.diff(p[i], self.qd[j])
-                    M[j][i] = M[i][j]
+                    if self.qd[j] in present:
+                        M[i][j] = se.diff(p[i], self.qd[j])
+                        M[j][i] = M[i][j]
                 h[i] = self.dt(p[i], with_acceleration=False) - se.diff(T, self.q[i])
                 if any(a in h[i].free_symbols for a in self.qdd):  # pragma: no cover
                     raise SingularSystem("kinetic energy contains accelerations")
         for it in self._bodies:
             m, J, a0 = it["m"], it["J"], it["a0"]
             dim = len(J)
-            for i in range(n):
-                for j in range(i, n):
+            # only the coordinates the body's position depends on contribute (a body among many:
+            # its few nonzero columns, not all n^2 pairs)
+            moving = [i for i in range(n) if any(J[d][i] != 0 for d in range(dim))]
+            for a, i in enumerate(moving):
+                for j in moving[a:]:
                     s = sum((J[d][i] * J[d][j] for d in range(dim)), se.Integer(0))
                     if s != 0:
                         M[i][j] += m * s
@@ -250,9 +255,10 @@ class Dynamics:
                 IOm = [sum((I[r][c] * Om[c] for c in range(3)), se.Integer(0)) for r in range(3)]
                 gyro = _cross(Om, IOm)
                 eul = [sum((I[r][c] * dOm0[c] for c in range(3)), se.Integer(0)) + gyro[r] for r in range(3)]
-                for i in range(n):
+                turning = [i for i in range(n) if any(Jw[c][i] != 0 for c in range(3))]
+                for a, i in enumerate(turning):
                     IJ = [sum((I[r][c] * Jw[c][i] for c in range(3)), se.Integer(0)) for r in range(3)]
-                    for j in range(i, n):
+                    for j in turning[a:]:
                         s = sum((Jw[r][j] * IJ[r] for r in range(3)), se.Integer(0))
                         if s != 0:
                             M[i][j] += s

@@ -72,7 +72,9 @@ def _lambdify(inputs, exprs, optimize: bool):
     """
     safe = [se.Symbol(f"__in{i}__") for i in range(len(inputs))]
     rename = dict(zip(inputs, safe))
-    exprs = [se.sympify(e).xreplace(rename) for e in exprs]
+    exprs = [se.sympify(e) for e in exprs]
+    if exprs:   # one substitution over all outputs (per expression it would rebuild the map each time)
+        exprs = list(se.DenseMatrix(len(exprs), 1, exprs).xreplace(rename))
     inputs = safe
     if _LLVM and not optimize:
         try:
