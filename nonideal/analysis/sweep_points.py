@@ -114,7 +114,9 @@ class PointRunner:
         if self._raw is None:
             import tomllib
 
-            data = tomllib.loads(self.path.read_text(encoding="utf-8").removeprefix("\ufeff"))
+            from ..modeling.limits import read_text
+
+            data = tomllib.loads(read_text(self.path).removeprefix("\ufeff"))
             self._raw = data
         return self._raw
 

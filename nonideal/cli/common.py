@@ -14,7 +14,7 @@ from pathlib import Path
 from ..errors import MechanicsError, ModelError, NonidealError, did_you_mean
 from .outputs import output_problems
 
-__all__ = ["ParserContext", "json_option", "model_argument", "load_spec", "check_options",
+__all__ = ["ParserContext", "json_option", "model_argument", "load_spec", "model_path", "check_options",
            "parse_times", "parse_at", "parse_independent", "parse_substitutions",
            "parse_contact_states", "parse_overrides", "numerical_warnings", "explained",
            "well_posed_at_start", "form_type", "method_type", "METHODS", "FORM_NAMES", "PLOT_SAMPLES", "RTOL_MIN"]
@@ -51,17 +51,24 @@ def parse_overrides(items) -> dict[str, str]:
 
 
 def load_spec(spec: str, overrides=None):
-    """A model file path, or the name of a gallery example; *overrides* are the ``--set``
-    options (a list of ``NAME=VALUE`` strings)."""
-    from .. import gallery
+    """The model of a model file path or of a gallery example's name; *overrides* are the
+    ``--set`` options (a list of ``NAME=VALUE`` strings)."""
     from ..modeling.modelfile import load_model
 
     values = parse_overrides(overrides)
+    return load_model(model_path(spec), parameters=values)
+
+
+def model_path(spec: str) -> Path:
+    """The file of a model file path (anything that exists: reading it says what is wrong) or
+    of a gallery example's name; a name that is neither is refused with the nearest ones."""
+    from .. import gallery
+
     path = Path(spec)
     if path.exists():
-        return load_model(path, parameters=values)
+        return path
     if spec in gallery.names():
-        return load_model(gallery.model_path(spec), parameters=values)
+        return gallery.model_path(spec)
     if spec.endswith(".toml"):
         try:
             nearby = [str(path.parent / f.name) if str(path.parent) != "." else f.name

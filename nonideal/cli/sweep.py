@@ -71,16 +71,14 @@ def add_parser(sub, ctx) -> None:
 def model_file(spec: str) -> Path:
     """The model file of a path or of a gallery example's name (the same errors as every
     command for anything else)."""
-    from .. import gallery
-    from .common import load_spec
+    from ..modeling.modelfile import load_model
+    from .common import model_path
 
-    path = Path(spec)
-    if path.is_file():
-        return path
-    if spec in gallery.names():
-        return gallery.model_path(spec)
-    load_spec(spec)   # raises the command line's error: not found, with the nearest names
-    raise ModelError(f"{spec}: not a model file")  # pragma: no cover
+    path = model_path(spec)      # not found: the command line's error, with the nearest names
+    if not path.is_file():
+        load_model(path)         # says what it is instead (a directory, ...)
+        raise ModelError(f"{spec}: not a model file")  # pragma: no cover
+    return path
 
 
 def _journal_path(args) -> Path:
