@@ -525,8 +525,9 @@ class Simulation:
         if reason:
             raise IntegrationFailed(ode.t, mode.label(), reason,
                                     None if self.model.source == "<api>" else self.model.source)
-        mass_stall(self.model, self.solver, ode.t, ode.y, self.model.t0, np.concatenate(self.initial_state()))
-        servo_stall(self.model, self.solver, ode.t, ode.y, mode)
+        start = np.concatenate(self.initial_state())
+        mass_stall(self.model, self.solver, ode.t, ode.y, self.model.t0, start)
+        servo_stall(self.model, self.solver, ode.t, ode.y, mode, self.model.t0, start)
         for name, cs in mode.contacts:
             if cs.state != SLIDE:
                 continue

@@ -35,7 +35,7 @@ from ..errors import MechanicsError, SingularMotion, SingularSystem
 from ..modes.diagnosis import weakest_reactions
 from .guards import StepScan
 
-__all__ = ["SINGULAR", "Regularity", "servo_stall", "mass_stall"]
+__all__ = ["SINGULAR", "LOST", "Regularity", "servo_stall", "mass_stall"]
 
 SINGULAR = 1e-6
 """Regularity below which the constraint rows are treated as singular."""
@@ -162,29 +162,57 @@ class Regularity:
             {"constraints": ", ".join(involved), "regularity": f"{rho:.3g}"})
 
 
-def servo_stall(model, solver, t: float, y: np.ndarray, mode) -> None:
-    """A servo- or quasi-ideal constraint whose reaction stops realizing it (``G M^-1 B``
-    singular: the control direction turns orthogonal, in the metric of M, to the program's
-    gradient, and the control force grows without bound) stalls the integration: say so,
-    naming the constraints (exit code 3).  Called when the integration stalls."""
+LOST = 1e-4
+"""A servo row's gain on its program below this fraction of its value at the start: the program
+is lost (the control no longer reaches it)."""
+
+
+def _gains(solver, t, q, qd, rows):
+    """The dynamics at a state and each row's gain on its own condition, ``1 / (S^-1)_ii`` with
+    ``S = G M^-1 B`` over *rows* (the Schur complement: how much the row's condition responds to
+    its own multiplier once the other rows' multipliers are solved for); None where singular."""
+    out = solver.kernel.dynamics(solver.input(t, q, qd))
+    M, G, B = (np.asarray(out[k], dtype=float) for k in ("M", "G", "B"))
+    try:
+        S = G[rows] @ np.linalg.solve(M, B[:, rows])
+        return M, G, B, 1.0 / np.diag(np.linalg.inv(S))
+    except (np.linalg.LinAlgError, ZeroDivisionError, FloatingPointError):
+        return M, G, B, None
+
+
+def servo_stall(model, solver, t: float, y: np.ndarray, mode, t0: float | None = None,
+                y0: np.ndarray | None = None) -> None:
+    """A servo- or quasi-ideal constraint whose reaction stops realizing it stalls the
+    integration: say so, naming the constraints (exit code 3).  Called when the integration
+    stalls.  Two ways to lose a program:
+
+    * ``G M^-1 B`` singular relative to its scale: the control direction turns orthogonal, in
+      the metric of M, to the program's gradient (a thrust that turns tangent to its path);
+    * given the starting state *(t0, y0)*: a servo row's gain on its program (the Schur
+      complement of ``G M^-1 B``) has fallen below :data:`LOST` of its value at the start -- a
+      control acting through the dynamics whose lever vanishes (the friction speed regulator's
+      wheel reaching the axis, rho -> 0: Manglieva & Beknazarov 2022, (3.5) blows up).  The
+      program, the order of the derivative in which its control was found, the time and the
+      state are named."""
     kernel, n = solver.kernel, solver.n
     rows = solver.rows(mode)
     if not any(kernel.rows[i].reaction_kind != "ideal" for i in rows):
         return
     q, qd = y[:n], y[n:2 * n]
-    out = kernel.dynamics(solver.input(t, q, qd))
-    M, G, B = (np.asarray(out[k], dtype=float) for k in ("M", "G", "B"))
+    M, G, B, gains = _gains(solver, t, q, qd, rows)
+    state = dict(zip(model.coordinates, map(float, q)))
+    state.update({c + "'": float(v) for c, v in zip(model.coordinates, qd)})
+    reach = kernel.dyn.servo_reach
     try:
         relative, w = weakest_reactions(M, G[rows], B[:, rows])
     except np.linalg.LinAlgError:  # pragma: no cover - M singular is diagnosed elsewhere
-        return
+        relative = np.inf
     if relative > 1e-6:
+        _lost(kernel, rows, gains, solver, t, t0, y0, state)
         return
     involved = [kernel.rows[i].name for k, i in enumerate(rows)
                 if abs(w[k]) > 1e-3 * np.max(np.abs(w)) and kernel.rows[i].reaction_kind != "ideal"]
-    state = dict(zip(model.coordinates, q))
-    state.update({c + "'": float(v) for c, v in zip(model.coordinates, qd)})
-    orders = {x: kernel.dyn.servo_reach[x].order for x in involved if x in kernel.dyn.servo_reach}
+    orders = {x: reach[x].order for x in involved if x in reach}
     tried = "".join(f"; the control of '{x}' acts through the dynamics: the program was differentiated to "
                     f"order {k} (its condition of dynamics loses the control)" for x, k in orders.items() if k > 2)
     raise MechanicsError(
@@ -194,6 +222,30 @@ def servo_stall(model, solver, t: float, y: np.ndarray, mode) -> None:
         "metric of M, to the program's gradient, and the control force needed grows without "
         f"bound; the programmed motion cannot be continued with this control{tried}", t, state,
         details={"order_tried": orders} if tried else None)
+
+
+def _lost(kernel, rows, gains, solver, t, t0, y0, state) -> None:
+    """Raise when a servo row's gain has fallen below :data:`LOST` of its value at *(t0, y0)*."""
+    n = solver.n
+    if y0 is not None and gains is not None:
+        start = _gains(solver, t0, y0[:n], y0[n:2 * n], rows)[3]
+        lost = [(k, i) for k, i in enumerate(rows) if kernel.rows[i].reaction_kind == "servo"
+                and start is not None and abs(gains[k]) <= LOST * abs(start[k])]
+        if lost:
+            k, i = lost[0]
+            name = kernel.rows[i].name
+            order = kernel.dyn.servo_reach[name].order if name in kernel.dyn.servo_reach else 2
+            ratio = abs(gains[k]) / abs(start[k])
+            how = (f"its control acts through the dynamics: the program was differentiated to order {order} "
+                   "before the control appeared, and that derivative's dependence on the control "
+                   if order > 2 else "the program's dependence on its control ")
+            raise MechanicsError(
+                f"servo-constraint '{name}': the program is lost at t = {t:.10g}: {how}(its gain, "
+                f"the Schur complement of G M^-1 B) fell to {ratio:.2g} of its value at t0 = {t0:.6g}, so "
+                "the control force needed grows without bound and the integration stalled; the "
+                "programmed motion cannot be continued with this control beyond this state (Béghin "
+                "1922; Yushkov 1999, ch. IV) -- end the run before it or change the program",
+                t, state, details={"program": name, "order_tried": order, "gain_ratio": ratio})
 
 
 def mass_stall(model, solver, t: float, y: np.ndarray, t0: float, y0: np.ndarray) -> None:

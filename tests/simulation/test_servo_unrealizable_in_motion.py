@@ -40,3 +40,25 @@ def test_stops_where_the_thrust_turns_tangent(capsys, tmp_path):
     tr = simulate(model, t_end=0.3)                       # before it: the program is followed
     x, y = tr.q[:, 0], tr.q[:, 1]
     assert np.max(np.abs(y - p["b"] * x ** 2)) < 1e-9
+
+
+def test_regulator_loses_its_program_when_the_wheel_reaches_the_axis(capsys, tmp_path):
+    # Manglieva & Beknazarov 2022, (3.5): with a braking torque on shaft 2 (M2 < 0, so k1 < 0)
+    # k rho' = k1/rho + k2 drives the wheel to the axis rho = 0 in the finite time (3.10) with
+    # rho = 0; there the control (which reaches phi2' only through rho', order 3) loses its lever
+    # and the force needed grows without bound: exit 3 naming the program and the order, not an
+    # integration failure (exit 2)
+    from nonideal.gallery import friction_speed_regulator as reg
+    p = dict(reg.DEFAULTS, M2=-0.5)
+    t_star = float(reg.quadrature_time(0.0, p))
+    with pytest.raises(MechanicsError, match="servo-constraint 'speed': the program is lost") as info:
+        simulate(reg.build(**p), t_end=1.0)
+    err = info.value
+    assert err.exit_code == 3 and err.details["program"] == "speed" and err.details["order_tried"] == 3
+    assert err.t == pytest.approx(t_star, rel=1e-6)
+    assert abs(err.state["rho"]) < 1e-6 and err.state["rho'"] < -1e3   # rho' = (k1/rho + k2)/k
+    code = main(["simulate", "friction-speed-regulator", "--set", "M2=-0.5", "--t-end", "1",
+                 "--json", str(tmp_path / "out.json")])
+    msg = capsys.readouterr().err
+    assert code == 3 and "program is lost" in msg and "order 3" in msg and "rho = " in msg
+    assert not (tmp_path / "out.json").exists()
