@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..numeric.consistency import complete_state
+from ..equations.high_order import extended
 from ..modeling.model import Model
 from ..modeling.symbols import to_sp
 from ..modes.diagnosis import diagnose_state
@@ -78,6 +79,7 @@ class CheckReport:
 
 def check_model(model: Model) -> CheckReport:
     """Validate *model* beyond parsing (raises the same errors a simulation would)."""
+    model = extended(model)  # third-order constraints: the forces are part of the state
     kernel = kernel_of(model)
     params = parameter_vector(model)
     cons = []

@@ -14,6 +14,7 @@ import numpy as np
 from ..numeric.consistency import complete_state, random_admissible_states
 from ..errors import FormNotApplicable
 from ..equations.formalisms import FORMS
+from ..equations.high_order import extended
 from ..modeling.model import Model
 from ..modes.types import SLIDE, SMOOTH, STICK, ContactState, Mode
 from ..modes.solver import ModeSolver
@@ -85,6 +86,7 @@ def compare_forms(model: Model, forms=None, count: int = 20, seed: int = 0,
         residual, which would make the comparison empty).
     """
     forms = list(forms or (list(FORMS) + ["gauss"]))
+    model = extended(model)  # third-order constraints: the forces are part of the state
     kernel = kernel_of(model)
     params = parameter_vector(model)
     q0, qd0, _ = complete_state(kernel, model.numeric_initial(), params, model.t0)

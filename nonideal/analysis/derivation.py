@@ -12,6 +12,7 @@ from ..equations.formalisms import FORMS, derive as derive_symbolic
 from ..equations.dynamics import ConstraintRow
 from ..errors import ModelError
 from ..modeling.arguments import require_form, require_model
+from ..equations.high_order import extended
 from ..modeling.model import Model
 from ..modes.routes import route_for
 from ..numeric.consistency import initial_branch
@@ -56,6 +57,7 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
     ("x''", "theta''")
     """
     require_model(model, "derive")
+    model = extended(model)  # third-order constraints: the forces are part of the state
     require_form(form, "derive", FORMS)
     if friction not in ("physical", "painleve"):
         raise ModelError(f"friction: {friction!r} unknown; use \"physical\" or \"painleve\"")

@@ -28,6 +28,7 @@ from ..errors import ModelError, did_you_mean
 from ..equations.formalisms import FORMS
 from ..modeling.arguments import real_number, require_form, require_mapping, require_model
 from ..modeling.expressions import float_value, parse_expression
+from ..equations.high_order import extended
 from ..modeling.model import Model
 from ..modes.solver import ModeSolver
 from ..numeric.kernel import kernel_of, parameter_vector
@@ -253,6 +254,7 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     from ..modes.switching import select_mode, validate_state
 
     require_model(model, "evaluate")
+    model = extended(model)  # third-order constraints: the forces are part of the state
     require_mapping(at, "evaluate", "at", "{'x': 0.1, \"x'\": 1.0}")
     require_mapping(parameters, "evaluate", "parameters", "{'m': 2.0}")
     require_form(form, "evaluate", [*FORMS, "gauss"])

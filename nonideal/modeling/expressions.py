@@ -15,7 +15,8 @@ Grammar (the precedence of Python/SymPy: ``-x^2 = -(x^2)``, ``2^3^2 = 2^9``)::
     unary  := ("+" | "-")* power
     power  := atom (("^" | "**") unary)?
     atom   := NUMBER | NAME | NAME "(" expr ("," expr)* ")" | "(" expr ")"
-    NAME   := [A-Za-z_][A-Za-z_0-9]* followed by up to two primes (x' and x'')
+    NAME   := [A-Za-z_][A-Za-z_0-9]* followed by up to two primes (x' and x''; three,
+              x''', where the names allow it: a constraint's expr)
 
 Guards keep hostile input cheap: a length limit (:data:`MAX_LENGTH`), a nesting limit
 (:data:`MAX_DEPTH`, parentheses, powers and calls), a limit on exponents
@@ -343,9 +344,10 @@ class _Parser:
     def name(self, tok: _Token) -> sp.Expr:
         name = tok.text
         base, primes = name.rstrip("'"), len(name) - len(name.rstrip("'"))
-        if primes > 2:
+        if primes > 3 or (primes == 3 and name not in self.names):
             raise _Fail(tok.col, f"{name}: only first (x') and second (x'') derivatives can be "
-                                 "written")
+                                 "written" + (", and third ones (x''') in a constraint's expr"
+                                              if primes == 3 else ""))
         if name in self.names:
             return self.names[name]
         if name in CONSTANTS:

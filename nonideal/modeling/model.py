@@ -189,6 +189,8 @@ class Model:
             out.update({s.name: s for s in qd})
         if order >= 2:
             out.update({s.name: s for s in qdd})
+        if order >= 3:  # third derivatives: a constraint's expr only
+            out.update({s.name + "'": sp.Symbol(s.name + "'") for s in qdd})
         if time:
             out["t"] = t
         return out

@@ -17,6 +17,7 @@ from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
+from .high_order import cost_problem, initial_multiplier, third_order_problem
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
 
 __all__ = ["Normalizer"]
@@ -294,7 +295,7 @@ class Normalizer:
                     "use holonomic, nonholonomic or servo"
                 )
                 continue
-            expr = self.smooth(self.expr(c.expr, f"{where}: expr", 2), f"{where}: expr")
+            expr = self.smooth(self.expr(c.expr, f"{where}: expr", 3), f"{where}: expr")
             if expr is None:
                 continue
             order = derivative_order(expr, m.coordinates)
@@ -317,6 +318,11 @@ class Normalizer:
                 )
                 continue
             nonlinear = False
+            if order == 3:
+                bad, nonlinear = third_order_problem(m, c, expr, where)
+                if bad:
+                    self.problems.append(bad)
+                    continue
             if order == 2:
                 acc = [a for a in m.qdd if a in expr.free_symbols]
                 nonlinear = any(sp.diff(expr, a, b) != 0 for a in acc for b in acc)
@@ -379,7 +385,7 @@ class Normalizer:
                                              "per control direction)")
                         continue
                     cost = tuple(tuple(r) for r in rows_)
-                    bad = _cost_problem(cost, self.m.parameters)
+                    bad = cost_problem(cost, self.m.parameters)
                     if bad:
                         self.problems.append(f"{where}: cost {bad}")
                         continue
@@ -409,7 +415,7 @@ class Normalizer:
             out.append(Constraint(c.name, expr, kind, bool(c.unilateral), reaction, transform,
                                   restitution=restitution, order=order, losses=losses,
                                   root=(c.root or "largest") if nonlinear else None,
-                                  controls=controls, cost=cost))
+                                  controls=controls, cost=cost, initial=c.initial))
         self.set("constraints", tuple(out))
 
     def contacts(self) -> None:
@@ -530,8 +536,11 @@ class Normalizer:
         allowed = set(m.coordinates) | {c + "'" for c in m.coordinates}
         names = {n: sp.Symbol(n) for n in m.parameters}
         values = parameter_values(m.parameters)
-        out = {}
-        for key, value in dict(m.initial).items():
+        out, given = {}, dict(m.initial)
+        self.set("constraints", tuple(replace(c, initial=initial_multiplier(
+            m, c, given.pop(f"lambda_{c.name}", None), names, self.problems)) if c.order == 3 else c
+            for c in m.constraints))
+        for key, value in given.items():
             where = f"[initial] {key}"
             if key not in allowed:
                 self.problems.append(
@@ -579,18 +588,3 @@ class Normalizer:
         if sim.t_end is not None and not (isinstance(sim.t_end, (int, float)) and sim.t_end > m.t0):
             self.problems.append(f"[simulation] t_end: must be a number > t0 = {m.t0} (got {sim.t_end!r})")
         self.set("simulation", sim)
-
-
-def _cost_problem(cost, parameters) -> str | None:
-    """Why a quadratic cost of the controls is not symmetric positive definite (at the
-    parameters' values), or None."""
-    values = parameter_values(parameters)
-    try:
-        W = np.array([[float(sp.sympify(x).xreplace(values)) for x in row] for row in cost])
-    except (TypeError, ValueError):
-        return "must contain numbers or expressions in the parameters only"
-    if not np.allclose(W, W.T):
-        return "must be symmetric"
-    if np.min(np.linalg.eigvalsh(W)) <= 0:
-        return "must be positive definite (the rule minimizes u^T cost u)"
-    return None

@@ -74,6 +74,8 @@ def derivative_order(expr: sp.Expr, coordinates: Iterable[str]) -> int:
     names = {s.name for s in expr.free_symbols}
     order = 0
     for c in coordinates:
+        if c + "'''" in names:
+            return 3
         if c + "''" in names:
             order = 2
         elif c + "'" in names:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import MechanicsError, ModelError, PainleveParadox, SingularSystem
+from ..equations.high_order import extended
 from ..modeling.model import Model
 from ..numeric.consistency import complete_state
 from ..numeric.kernel import kernel_of, parameter_vector
@@ -150,6 +151,7 @@ def diagnose_state(model: Model, t: float, q, qd, closed=(), definite: bool = Fa
 def diagnose_initial_state(model: Model, definite: bool = False) -> ModelError | None:
     """:func:`diagnose_state` at the model's (completed) initial state; ``None`` if fine or if
     the initial state itself cannot be completed (that error is raised elsewhere)."""
+    model = extended(model)  # third-order constraints: the forces are part of the state
     kernel = kernel_of(model)
     params = parameter_vector(model)
     try:

@@ -37,6 +37,8 @@ from ..modes.switching import effective_compliance, impact, select_mode, validat
 from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
 from .guards import Step, event_hits
 from .singular import Regularity, mass_stall, servo_stall
+from .extended import reduce
+from ..equations.high_order import extension_of
 from .rhs import phase_rhs
 from .trajectory import Sample, Trajectory
 from .zeno import Accumulation, ImpactSeries
@@ -579,6 +581,9 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
         from ..errors import did_you_mean
         raise ModelError([f"simulate: unknown option '{k}'{did_you_mean(k, allowed)}; allowed: "
                           + ", ".join(allowed) for k in unknown])
+    ext = extension_of(model)  # third-order constraints: the extended model's motion, read back
+    if ext is not None:
+        return reduce(ext, simulate(ext.model, t_end, times, form, **options))
     check_arguments(model, t_end, times, form, options)
     initial = options.pop("initial", None)
     stop_on = options.pop("stop_on", None)
