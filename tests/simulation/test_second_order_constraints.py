@@ -86,3 +86,24 @@ def test_nonlinear_second_order_constraint_needs_a_reaction_and_a_valid_rule():
         Model(name="r", coordinates=["x"], kinetic="x'^2/2",
               constraints=[Constraint.servo("c", "x'' - 1", ["1"], root="largest")],
               initial={"x": 0, "x'": 0})
+
+
+def test_linear_second_order_ideal_constraint_that_is_no_derivative_closed_form():
+    # x'' + y'' = c in gravity, ideal: the reaction is (1, 1) lambda (d expr/d q''), so
+    # m x'' = lambda, m y'' = -m g + lambda and lambda = m (c + g)/2 (constant); evaluate agrees
+    from nonideal.analysis.evaluation import evaluate
+    model = Model(name="acc", coordinates=["x", "y"], parameters={"m": 1.5, "g": 9.81, "c": 0.4},
+                  kinetic="m/2*(x'^2 + y'^2)", potential="m*g*y",
+                  constraints=[Constraint("sum", "x'' + y'' - c")],
+                  initial={"x": 0, "y": 0, "x'": 1.0, "y'": 2.0},
+                  simulation={"t_end": 2.0, "rtol": 1e-12, "atol": 1e-13})
+    assert model.constraints[0].order == 2 and model.constraints[0].reaction_kind == "ideal"
+    tr = simulate(model, times=TIMES)
+    lam = 1.5 * (0.4 + 9.81) / 2
+    t = TIMES
+    assert np.max(np.abs(tr.multipliers["sum"] - lam)) < 1e-9
+    assert np.max(np.abs(tr.coordinate("x") - (t + lam / 1.5 * t ** 2 / 2))) < 1e-9
+    assert np.max(np.abs(tr.coordinate("y") - (2 * t + (lam / 1.5 - 9.81) * t ** 2 / 2))) < 1e-9
+    ev = evaluate(model)
+    assert ev.multipliers["sum"] == pytest.approx(lam, rel=1e-12)
+    assert tr.diagnostics["energy_balance_relative"] < 1e-10
