@@ -397,8 +397,9 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     if not isinstance(initial, dict):
         problems.append("[initial]: must be a table name = value")
         initial = {}
-    initial = {k: v for k, v in initial.items()
-               if check.expr(initial, k, f"[initial] {k}")}
+    initial = {k: v for k, v in initial.items()   # lambda_<c> = [..]: a third-order ideal constraint's R(t0)
+               if (check.expr_list(initial, k, f"[initial] {k}") if isinstance(v, list) and str(k).startswith("lambda_")
+                   else check.expr(initial, k, f"[initial] {k}"))}
     forms = table("forms")
     independent = None
     if "independent" in forms:
