@@ -24,19 +24,22 @@ def _integral(power: np.ndarray, t: np.ndarray) -> np.ndarray:
         if len(t) else np.zeros(0)
 
 
-def _direction(ext, spec, traj: Trajectory, n: int) -> np.ndarray:
+def _direction(ext, spec, traj: Trajectory, n: int, parameters=None) -> np.ndarray:
     """``B`` of a constraint realized along a given direction at the samples, shape (N, n)."""
     model = ext.original
     args = [se.Symbol("t")] + [to_se(s) for s in model.q] + [to_se(s) for s in model.qd] \
         + [se.Symbol(p) for p in model.parameters]
     fn = se.Lambdify(args, [to_se(b) for b in spec.B])
-    pv = [float(p.value) for p in model.parameters.values()]
+    values = {k: float(p.value) for k, p in model.parameters.items()}
+    values.update(parameters or {})
+    pv = [float(values[k]) for k in model.parameters]
     return np.array([np.asarray(fn([t, *q, *qd, *pv]), dtype=float).ravel()
                      for t, q, qd in zip(traj.t, traj.q[:, :n], traj.qd[:, :n])]).reshape(len(traj.t), n)
 
 
-def reduce(ext, traj: Trajectory) -> Trajectory:
-    """The trajectory of ``ext.original`` from *traj*, the extended model's.
+def reduce(ext, traj: Trajectory, parameters=None) -> Trajectory:
+    """The trajectory of ``ext.original`` from *traj*, the extended model's (simulated with the
+    parameter values *parameters* overriding the model's, if given).
 
     ``multipliers[name]`` is ``lambda`` for a constraint realized along ``reaction`` (its
     force is ``B lambda``) and ``Lambda`` for an ideal one (``R' = Lambda (d f/d q''')^T``);
@@ -61,7 +64,7 @@ def reduce(ext, traj: Trajectory) -> Trajectory:
             entry = {"force": np.sqrt(np.einsum("ki,ki->k", R, R))}
             entry.update({f"u_{k + 1}": R[:, k].copy() for k in range(n)})
         else:
-            R = _direction(ext, spec, traj, n) * W[:, :1]
+            R = _direction(ext, spec, traj, n, parameters) * W[:, :1]
             entry = {"force": W[:, 0].copy()}
             mult[spec.name] = W[:, 0].copy()          # lambda; the extended row's is lambda'
         power = np.einsum("ki,ki->k", R, traj.qd[:, :n])

@@ -583,7 +583,7 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
                           + ", ".join(allowed) for k in unknown])
     ext = extension_of(model)  # third-order constraints: the extended model's motion, read back
     if ext is not None:
-        return reduce(ext, simulate(ext.model, t_end, times, form, **options))
+        return reduce(ext, simulate(ext.model, t_end, times, form, **options), options.get("parameters"))
     check_arguments(model, t_end, times, form, options)
     initial = options.pop("initial", None)
     stop_on = options.pop("stop_on", None)

@@ -134,3 +134,15 @@ def test_cli_missing_initial_force_is_exit_2_naming_the_key(tmp_path, capsys):
     out = json.loads((tmp_path / "o.json").read_text())
     assert list(out["q"]) == ["x"] and out["multipliers"]["jerk"][-1] == pytest.approx(3.0, rel=1e-10)
     assert out["controls"]["jerk"]["order"] == 3
+
+
+def test_parameter_override_reaches_the_force_direction():
+    # the drive's power u B . q' with B = (cos(alpha), sin(alpha)) read at the overridden alpha
+    from nonideal.gallery import jerk_programmed_drive as drive
+    times = np.linspace(0.0, 1.0, 41)
+    a = simulate(drive.build(alpha=0.9), times=times)
+    b = simulate(drive.build(), times=times, parameters={"alpha": 0.9})
+    assert np.max(np.abs(a.q - b.q)) < 1e-10
+    assert np.max(np.abs(a.controls["drive"]["power"] - b.controls["drive"]["power"])) < 1e-9
+    E = a.energy["energy"]
+    assert a.energy["reaction_work"][-1] == pytest.approx(E[-1] - E[0], rel=1e-6)   # Simpson, 41 samples
