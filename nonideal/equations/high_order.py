@@ -70,7 +70,7 @@ class Extension:
 
 def extension_of(model: Model) -> Extension | None:
     """The extension of *model* (cached), or None when it has no third-order constraint."""
-    if not any(c.order == 3 for c in model.constraints):
+    if not isinstance(model, Model) or not any(c.order == 3 for c in model.constraints):
         return None
     return model.cached("third_order_extension", lambda: _extend(model))
 
