@@ -124,6 +124,15 @@ def check_model(model: Model) -> CheckReport:
                             + ("least cost u^T W u with the given cost W" if c.cost is not None
                                else "least norm |u|")
                             for c in several))
+        shared = [c.name for c in servo if c.shared]
+        if shared:
+            rs, js = len(shared), len(model.controls)
+            own = len(servo) - rs
+            determinacy = (determinacy + "; " if own else "") + (
+                f"the program(s) {', '.join(repr(x) for x in shared)} share the controls "
+                            f"{', '.join(u.name for u in model.controls)} (r = {rs}, j = {js}: "
+                            + ("determinate" if rs == js else "indeterminate, resolved by the least "
+                               "weighted norm sum w_k u_k^2; Béghin 1922") + ")")
     else:
         determinacy = "all constraints ideal: the motion is determinate"
     given = model.numeric_initial()

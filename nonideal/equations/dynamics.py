@@ -27,7 +27,7 @@ from functools import cached_property
 import symengine as se
 
 from ..modeling.bodies import Force, PlanarBody, RigidBody, Torque
-from .servo import directions_dependent, least_cost_direction, reach, root_row
+from .servo import directions_dependent, least_cost_direction, reach, root_row, shared_directions
 from ..errors import ModelError, SingularSystem
 from ..modeling.model import Constraint, Model
 from ..modeling.symbols import to_se
@@ -330,6 +330,7 @@ class Dynamics:
                 out[c.name] = self._row(c)
         for name, (row, _) in self.control_rows.items():
             out[name] = row
+        out.update(zip(self.shared_rows[0], self.shared_rows[1]))
         for name in self.servo_reach:
             out[name] = self.servo_reach[name].row
         for name, (row, _, _) in self.root_rows.items():
@@ -354,6 +355,33 @@ class Dynamics:
             out[c.name] = (ConstraintRow(c.name, base.G, base.gamma, B, base.position, base.velocity,
                                          base.order, base.unilateral, "servo"), coef)
         return out
+
+    @cached_property
+    def shared_rows(self) -> tuple:
+        """``(names, rows, C)`` of the programs realized by the model's shared controls
+        (``[[controls]]``): each program's row along its least-cost direction and the j x r
+        matrix ``C`` with ``u = C mu`` (Béghin 1922: r programs, j controls; r > j is impossible
+        and raised here, naming the programs)."""
+        programs = [c for c in self.model.constraints if c.shared]
+        if not programs:
+            return [], [], None
+        controls = self.model.controls
+        if len(programs) > len(controls):
+            from ..errors import MechanicsError
+            raise MechanicsError(
+                f"{len(programs)} programs ({', '.join(repr(c.name) for c in programs)}) but only "
+                f"{len(controls)} shared control(s) ({', '.join(u.name for u in controls)}): with "
+                "more programs than controls the problem is impossible (Béghin 1922: r > j); add "
+                "controls or drop programs", details={"programs": [c.name for c in programs],
+                                                      "r": len(programs), "j": len(controls)})
+        others = [self._row(o) for o in self.model.constraints
+                  if not o.shared and o.root is None and o.controls is None and not o.unilateral]
+        base = [self._row(c) for c in programs]
+        cols = [[to_se(x) for x in u.direction] for u in controls]
+        B, C = shared_directions(self, base, others, cols, [to_se(u.weight) for u in controls])
+        rows = [ConstraintRow(r.name, r.G, r.gamma, b, r.position, r.velocity, r.order, False, "servo")
+                for r, b in zip(base, B)]
+        return [c.name for c in programs], rows, C
 
     @cached_property
     def root_rows(self) -> dict:
@@ -385,6 +413,7 @@ class Dynamics:
             return out
         base = {c.name: self._row(c) for c in self.model.constraints if c.root is None}
         base.update({name: row for name, (row, _) in self.control_rows.items()})
+        base.update(zip(self.shared_rows[0], self.shared_rows[1]))
         single = [base[c.name] for c in self.model.constraints
                   if c.reaction is not None and c.root is None]
         if directions_dependent(self, single):

@@ -35,7 +35,7 @@ of the other constraints' saddle-point system, then one time derivative of the a
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy as sp
 
@@ -142,7 +142,8 @@ def _extend(model: Model) -> Extension:
                 bodies=model.bodies, loads=model.loads, gravity=model.gravity,
                 constraints=tuple(constraints), initial=initial, t0=model.t0,
                 independent=model.independent, simulation=model.simulation, source=model.source,
-                description=model.description)
+                description=model.description, controls=tuple(
+                    replace(u, direction=tuple(u.direction) + (0,) * len(w)) for u in model.controls))
     return Extension(model, ext, tuple(specs))
 
 

@@ -47,7 +47,7 @@ from ..errors import IndeterminateSystem, MechanicsError
 from ..modeling.symbols import to_se, to_sp
 
 __all__ = ["ServoReach", "Condition", "reach", "root_row", "least_cost_direction",
-           "directions_dependent", "MAX_EXTRA_ORDER"]
+           "shared_directions", "directions_dependent", "MAX_EXTRA_ORDER"]
 
 MAX_EXTRA_ORDER = 4      # differentiate at most this many times beyond the acceleration level
 DECOUPLED_TOL = 1e-11    # |G a_u| relative to |G| |a_u| below this at every probe: decoupled
@@ -339,3 +339,31 @@ def least_cost_direction(dyn, row, others, columns, cost):
     coef = coef.applyfunc(lambda e: sp.cancel(e) if sp.count_ops(e) < CANCEL_OPS else e)
     B = D * coef
     return tuple(to_se(b) for b in B), tuple(to_se(c) for c in coef)
+
+
+def shared_directions(dyn, rows, others, columns, weights):
+    """Béghin's r programs realized by one set of j shared controls (``[[controls]]``), the
+    controls chosen by the least weighted norm ``sum_k w_k u_k^2`` among those that keep every
+    program (r < j; the unique ones when r = j).
+
+    With ``P`` the compliance under the other constraints (``q'' = a0 + P D u``) the programs
+    ``G_s q'' + gamma_s = 0`` are r linear conditions on u; the least-cost u is
+    ``u = W^-1 D^T P G_s^T mu`` with one multiplier per program, so program i is realized by the
+    direction ``B_i = D W^-1 D^T P G_i^T`` with multiplier ``mu_i`` -- r ordinary servo rows.
+    Returns ``(B, C)``: the r directions and the j x r matrix ``C`` with ``u = C mu`` (SymEngine).
+    Explicit symbolic cost: one LU solve of the other rows' saddle-point system with r
+    right-hand sides.
+    """
+    n = dyn.n
+    K, _ = _saddle(dyn, others, [0] * n)
+    rhs = sp.zeros(K.shape[0], len(rows))
+    for i in range(n):
+        for k, r in enumerate(rows):
+            rhs[i, k] = to_sp(r.G[i])
+    X = K.T.LUsolve(rhs)[:n, :]     # P^T G_s^T, n x r (P = P^T when the other rows are ideal)
+    D = sp.Matrix([[to_sp(col[i]) for col in columns] for i in range(n)])        # n x j
+    Winv = sp.diag(*[1 / to_sp(w) for w in weights])
+    C = (Winv * D.T * X).applyfunc(lambda e: sp.cancel(e) if sp.count_ops(e) < CANCEL_OPS else e)
+    B = D * C
+    return ([tuple(to_se(B[i, k]) for i in range(n)) for k in range(len(rows))],
+            [[to_se(C[a, k]) for k in range(len(rows))] for a in range(len(columns))])

@@ -10,7 +10,7 @@ from typing import Any
 
 from .expressions import CONSTANTS, FUNCTIONS
 
-__all__ = ["Parameter", "Constraint", "SimulationSettings", "RESERVED_NAMES", "CONSTRAINT_TYPES",
+__all__ = ["Parameter", "Constraint", "Control", "SimulationSettings", "RESERVED_NAMES", "CONSTRAINT_TYPES",
            "METHODS"]
 
 RESERVED_NAMES = frozenset({"t"} | set(FUNCTIONS) | set(CONSTANTS))
@@ -90,6 +90,7 @@ class Constraint:
     controls: tuple[tuple[Any, ...], ...] | None = None  # j control directions (Beghin: r < j)
     cost: tuple[tuple[Any, ...], ...] | None = None      # j x j quadratic cost of the controls
     initial: Any = None  # third order: the force at t0 (lambda; ideal: the n_q components of R)
+    shared: bool = False  # a servo program realized by the model's shared controls (set by the Model)
 
     @classmethod
     def holonomic(cls, name: str, expr: Any, unilateral: bool = False, **kw) -> "Constraint":
@@ -106,11 +107,33 @@ class Constraint:
     @property
     def reaction_kind(self) -> str:
         """``"ideal"``, ``"servo"`` or ``"quasi-ideal"``."""
-        if self.reaction is not None or self.controls is not None:
+        if self.reaction is not None or self.controls is not None or self.shared:
             return "servo"
         if self.transform is not None:
             return "quasi-ideal"
         return "ideal"
+
+
+@dataclass(frozen=True)
+class Control:
+    """A control shared by the servo-constraints of a model (Béghin 1922: r programs realized by
+    one set of j controls; ``[[controls]]`` in a model file).
+
+    Parameters
+    ----------
+    name : str
+    direction : sequence of n_q expressions
+        The generalized direction ``d`` of its force ``d u`` (may contain velocities).
+    weight : number or expression in the parameters, > 0
+        Its weight in the rule that chooses the controls when they are more than the programs
+        (r < j): the least ``sum_k weight_k u_k^2`` (default 1: the least-norm controls).
+    description : str
+    """
+
+    name: str
+    direction: tuple[Any, ...]
+    weight: Any = 1
+    description: str = ""
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,6 @@
 """Checks of the constraint parts a model file may declare beyond the ordinary ones: third-order
-constraints (``x'''`` in expr) with the initial value of their multiplier, and the quadratic cost
-of several control directions.
+constraints (``x'''`` in expr) with the initial value of their multiplier, the quadratic cost
+of several control directions, and the controls shared by several programs (``[[controls]]``).
 
 A constraint of third order ``f(q, q', q'', q''', t) = 0`` is realized by a force whose size
 cannot be read off the state (q, q'): the accelerations contain the force, so ``q'''`` contains
@@ -25,7 +25,7 @@ import sympy as sp
 
 from .values import parameter_values, to_expr, value_problems
 
-__all__ = ["jerks", "third_order_problem", "initial_multiplier", "cost_problem"]
+__all__ = ["jerks", "third_order_problem", "initial_multiplier", "cost_problem", "normalize_controls"]
 
 
 def jerks(model) -> list[sp.Symbol]:
@@ -110,3 +110,40 @@ def cost_problem(cost, parameters) -> str | None:
     if np.min(np.linalg.eigvalsh(W)) <= 0:
         return "must be positive definite (the rule minimizes u^T cost u)"
     return None
+
+
+def normalize_controls(norm) -> None:
+    """The model's shared controls (``[[controls]]``) with their directions parsed (expressions
+    in q, q', t) and their weights checked (positive, in the parameters); problems go to the
+    normalizer's list.  Béghin 1922: one set of j controls for all the programs declared as
+    servo-constraints without ``reaction``."""
+    from dataclasses import replace
+
+    from .declarations import Control
+    from .symbols import is_identifier
+
+    m = norm.m
+    out, seen = [], set(m.coordinates) | set(m.parameters)
+    for k, u in enumerate(m.controls):
+        if not isinstance(u, Control):
+            norm.problems.append(f"controls[{k}]: must be a Control(name, direction, weight)")
+            continue
+        where = f"control '{u.name}'"
+        if not isinstance(u.name, str) or not is_identifier(u.name) or u.name in seen:
+            norm.problems.append(f"{where}: name must be an identifier not used by a coordinate, "
+                                 "parameter or another control")
+            continue
+        seen.add(u.name)
+        d = norm.vector(u.direction, f"{where}: direction", (m.n_q,), order=1)
+        w = norm.expr(u.weight, f"{where}: weight", 0)
+        if d is None or w is None:
+            continue
+        if all(x == 0 for x in d):
+            norm.problems.append(f"{where}: direction is zero")
+            continue
+        bad = cost_problem([[w]], m.parameters)
+        if bad:
+            norm.problems.append(f"{where}: weight {bad.replace('must be positive definite', 'must be > 0')}")
+            continue
+        out.append(replace(u, direction=tuple(d), weight=w))
+    norm.set("controls", tuple(out))

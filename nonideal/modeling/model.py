@@ -37,7 +37,7 @@ from .contacts import Contact
 from ..errors import ModelError, did_you_mean
 from .symbols import coordinate_symbols, t
 
-from .declarations import RESERVED_NAMES, Constraint, Parameter, SimulationSettings
+from .declarations import RESERVED_NAMES, Constraint, Control, Parameter, SimulationSettings
 from .normalize import Normalizer
 from .expressions import float_value
 from .values import resolve_parameters, to_expr
@@ -69,6 +69,9 @@ class Model:
         Uniform gravity vector; adds ``-sum m g . r`` over the bodies to the potential.
     constraints : sequence of Constraint
     contacts : sequence of Contact
+    controls : sequence of Control, optional
+        Controls shared by the servo-constraints declared without ``reaction`` (Béghin 1922:
+        r programs, j controls; impossible if r > j, the least-cost controls if r < j).
     initial : mapping
         Coordinate and velocity (``"x'"``) values at ``t0``; numbers or expressions in the
         parameters.  Missing dependent values are completed from the constraints.
@@ -99,6 +102,7 @@ class Model:
     simulation: SimulationSettings = field(default_factory=SimulationSettings)
     source: str = "<api>"
     description: str = ""
+    controls: tuple[Control, ...] = ()
 
     # ------------------------------------------------------------------ construction
     def __post_init__(self):

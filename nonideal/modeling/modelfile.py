@@ -32,6 +32,7 @@ from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
 from ..errors import ModelError, did_you_mean, short_repr
 from .limits import check_size, read_text
+from .declarations import Control
 from .model import Constraint, Model, resolve_parameters
 
 from .filechecks import Checker, control_characters, describe, is_expr, toml_problem, unknown_keys
@@ -41,7 +42,7 @@ __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
 FORMAT_VERSION = 1
 
 TOP_KEYS = {"model", "parameters", "coordinates", "energy", "forces", "bodies", "gravity", "loads",
-            "constraints", "contacts", "initial", "simulation", "forms"}
+            "constraints", "contacts", "initial", "simulation", "forms", "controls"}
 SECTION_KEYS = {
     "model": {"name", "format", "description", "source"},
     "coordinates": {"q"},
@@ -52,6 +53,7 @@ SECTION_KEYS = {
 }
 CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral", "restitution",
                    "losses", "root", "cost", "description"}
+CONTROL_KEYS = {"name", "direction", "weight", "description"}
 CONTACT_KEYS = {"name", "gap", "slip", "mu", "mu_static", "friction", "eps", "restitution",
                 "bilateral", "description"}
 BODY_KEYS = {
@@ -151,7 +153,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     check = Checker(problems)
     problems += unknown_keys(data, TOP_KEYS, "top level")
     problems += control_characters(data)
-    for key in ("constraints", "contacts", "bodies", "loads"):
+    for key in ("constraints", "contacts", "bodies", "loads", "controls"):
         items = data.get(key)
         for i, item in enumerate(items if isinstance(items, list) else []):
             if isinstance(item, dict) and "description" in item and not isinstance(item["description"], str):
@@ -261,6 +263,19 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
             transform=tuple(tuple(r) for r in c["transform"]) if "transform" in c else None,
             restitution=float(restitution), losses=tuple(c["losses"]) if "losses" in c else None,
             root=c.get("root"), cost=c.get("cost")))
+
+    controls = []   # shared by the servo-constraints without reaction (Beghin: r programs, j controls)
+    for k, u in enumerate(_array_of_tables(data, "controls", problems)):
+        where = f"[[controls]] #{k + 1}" + (f" '{u.get('name')}'" if "name" in u else "")
+        problems += unknown_keys(u, CONTROL_KEYS, where)
+        if "name" not in u or "direction" not in u:
+            problems.append(f"{where}: a control needs name = \"...\" and direction = [...] (one "
+                            "expression per coordinate)")
+            continue
+        if check.name(u, where) & check.expr_list(u, "direction", where, (n_q,) if n_q else None) \
+                & (check.expr(u, "weight", where) if "weight" in u else True):
+            controls.append(Control(u["name"], tuple(u["direction"]), u.get("weight", 1),
+                                    str(u.get("description", ""))))
 
     contacts = []
     for k, c in enumerate(_array_of_tables(data, "contacts", problems)):
@@ -433,6 +448,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 independent=tuple(independent) if independent is not None else None,
                 simulation=settings,
                 source=source,
+                controls=tuple(controls),
             )
         except ModelError as exc:
             problems += [p for p in exc.problems if p not in problems]

@@ -17,7 +17,7 @@ from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
-from .high_order import cost_problem, initial_multiplier, third_order_problem
+from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
 
 __all__ = ["Normalizer"]
@@ -71,6 +71,7 @@ class Normalizer:
             return
         self.energy_and_forces()
         self.bodies_and_loads()
+        normalize_controls(self)
         self.constraints()
         self.contacts()
         self.initial_and_settings()
@@ -311,10 +312,11 @@ class Normalizer:
                     f"{where}: declared nonholonomic but contains no velocities; declare it holonomic"
                 )
                 continue
-            if kind == "servo" and c.reaction is None and c.controls is None:
+            shared = c.shared or kind == "servo" and c.reaction is None and c.controls is None
+            if shared and not m.controls:
                 self.problems.append(
                     f"{where}: a servo-constraint needs 'reaction' (the generalized direction "
-                    "of the control force, one entry per coordinate)"
+                    "of the control force, one entry per coordinate) or the model's [[controls]]"
                 )
                 continue
             nonlinear = False
@@ -415,7 +417,8 @@ class Normalizer:
             out.append(Constraint(c.name, expr, kind, bool(c.unilateral), reaction, transform,
                                   restitution=restitution, order=order, losses=losses,
                                   root=(c.root or "largest") if nonlinear else None,
-                                  controls=controls, cost=cost, initial=c.initial))
+                                  controls=controls, cost=cost, initial=c.initial,
+                                  shared=shared and c.transform is None and order < 3))
         self.set("constraints", tuple(out))
 
     def contacts(self) -> None:

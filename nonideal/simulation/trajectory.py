@@ -304,7 +304,28 @@ def _controls(kernel, mult, qd, dynamics, t, X) -> dict[str, dict[str, Any]]:
             C = np.asarray(coef.batch(X), dtype=float).reshape(len(t), -1)
             for k in range(C.shape[1]):
                 out[r.name][f"u_{k + 1}"] = C[:, k] * u
+    names, _, C = kernel.dyn.shared_rows
+    if names:   # the shared controls (Beghin: r programs, j controls): u = C mu, one entry each
+        N, controls = len(t), kernel.model.controls
+        coef = Compiled(kernel.symbols, {"c": [x for row in C for x in row],
+                                         "d": [x for u in controls for x in u.direction]})
+        vals = coef.views(coef.batch(X))
+        Cn = np.asarray(vals["c"], dtype=float).reshape(N, len(controls), len(names))
+        Dn = np.asarray(vals["d"], dtype=float).reshape(N, len(controls), kernel.n)
+        mu = np.column_stack([mult[x] for x in names])
+        for a, ctl in enumerate(controls):
+            u = np.einsum("ki,ki->k", Cn[:, a, :], mu)
+            power = u * np.einsum("ki,ki->k", Dn[:, a, :], qd)
+            out[ctl.name] = {"force": u, "power": power, "work": _work(power, t), "order": 2,
+                             "programs": list(names)}
     return out
+
+
+def _work(power: np.ndarray, t: np.ndarray) -> np.ndarray:
+    if len(t) >= 3 and np.all(np.diff(t) > 0):
+        return cumulative_simpson(power, x=t, initial=0.0)
+    return np.concatenate(([0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(t)))) \
+        if len(t) else np.zeros(0)
 
 
 def _jsonable(obj):
