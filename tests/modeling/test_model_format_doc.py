@@ -27,7 +27,7 @@ def _section(doc: str, heading: str) -> str:
 
 def test_every_table_has_its_section(doc):
     for key in modelfile.TOP_KEYS:
-        arrays = {"bodies", "loads", "constraints", "contacts"}
+        arrays = {"bodies", "loads", "constraints", "contacts", "controls"}
         _section(doc, f"[[{key}]]" if key in arrays else f"[{key}]")
 
 
@@ -35,6 +35,7 @@ def test_every_key_is_documented_in_its_section(doc):
     tables = {f"[{k}]": keys for k, keys in modelfile.SECTION_KEYS.items()}
     tables["[[constraints]]"] = modelfile.CONSTRAINT_KEYS
     tables["[[contacts]]"] = modelfile.CONTACT_KEYS
+    tables["[[controls]]"] = modelfile.CONTROL_KEYS
     tables["[[bodies]]"] = set().union(*modelfile.BODY_KEYS.values())
     tables["[[loads]]"] = set().union(*modelfile.LOAD_KEYS.values())
     # in its table's section, or in a section of its own that names it in backquotes (the
