@@ -123,7 +123,7 @@ def normalize_controls(norm) -> None:
     from .symbols import is_identifier
 
     m = norm.m
-    out, seen = [], set(m.coordinates) | set(m.parameters)
+    out, seen = [], set(m.coordinates) | set(m.parameters) | {getattr(c, "name", None) for c in m.constraints}
     for k, u in enumerate(m.controls):
         if not isinstance(u, Control):
             norm.problems.append(f"controls[{k}]: must be a Control(name, direction, weight)")
@@ -131,7 +131,7 @@ def normalize_controls(norm) -> None:
         where = f"control '{u.name}'"
         if not isinstance(u.name, str) or not is_identifier(u.name) or u.name in seen:
             norm.problems.append(f"{where}: name must be an identifier not used by a coordinate, "
-                                 "parameter or another control")
+                                 "parameter, constraint or another control")
             continue
         seen.add(u.name)
         d = norm.vector(u.direction, f"{where}: direction", (m.n_q,), order=1)

@@ -121,7 +121,7 @@ def test_unknown_keys_everywhere_with_suggestions(capsys):
     p = f"{path}: "
     expected = [
         p + "top level: unknown key 'simulaton' (did you mean 'simulation'?); allowed: bodies, "
-            "constraints, contacts, coordinates, energy, forces, forms, gravity, initial, loads, "
+            "constraints, contacts, controls, coordinates, energy, forces, forms, gravity, initial, loads, "
             "model, parameters, simulation",
         p + "[energy]: unknown key 'potentail' (did you mean 'potential'?); allowed: kinetic, "
             "potential",
