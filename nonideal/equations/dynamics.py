@@ -445,6 +445,12 @@ class Dynamics:
         return ConstraintRow(name, tuple(G), gamma, tuple(B), position, vel, order, False, "servo")
 
     def _row(self, c: Constraint) -> ConstraintRow:
+        if c.order == 3:
+            raise ModelError(
+                f"constraint '{c.name}' is of third order: the force that realizes it is part of the "
+                "state, and this analysis works with states (q, q') only; simulate, check, evaluate "
+                "and derive handle it (through the model extended by the force's impulse, "
+                "nonideal.equations.high_order.extended)", _source(self.model))
         expr = to_se(c.expr)
         if c.order == 0:
             G = [se.diff(expr, qk) for qk in self.q]

@@ -146,3 +146,10 @@ def test_parameter_override_reaches_the_force_direction():
     assert np.max(np.abs(a.controls["drive"]["power"] - b.controls["drive"]["power"])) < 1e-9
     E = a.energy["energy"]
     assert a.energy["reaction_work"][-1] == pytest.approx(E[-1] - E[0], rel=1e-6)   # Simpson, 41 samples
+
+
+def test_analyses_on_states_q_qdot_refuse_a_third_order_constraint_by_name(capsys):
+    assert main(["stability", "jerk-programmed-drive", "--about", "equilibrium"]) == 2
+    assert "constraint 'drive' is of third order" in capsys.readouterr().err
+    assert main(["derive", "jerk-programmed-drive", "--form", "lagrange1"]) == 0
+    assert "drive_impulse'' = lambda_drive" in capsys.readouterr().out
