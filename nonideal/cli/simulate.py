@@ -116,6 +116,15 @@ def run(args) -> int:
             last = traj.events[-1]
             print(f"  ... {len(traj.events) - len(shown)} more events, the last at t = {last['t']:.12g} "
                   f"-> mode [{last.get('mode', '')}] (all of them: --json or --csv)")
+        split = d.get("indeterminate")
+        if split:
+            print(f"  statically indeterminate reactions (the motion is unique, their split is "
+                  f"not); shown: {split['rule']}")
+            for ph in split["phases"]:
+                print(f"    t = {ph['t'][0]:.12g} .. {ph['t'][1]:.12g} [{ph['mode']}], at the end:")
+                for label, (lo, hi, shown) in ph["end"].items():
+                    print(f"      {label}: shown {number(shown, None, 8)}, admissible from "
+                          f"{number(lo, None, 8)} to {number(hi, None, 8)}")
         if heat is not None:
             print(f"  work of the reactions A = {traj.energy['reaction_work'][-1]:.12g}, heat lost in "
                   f"the drives W = {heat['total']:.12g} (Briskin et al. 2021, (3.7))")

@@ -37,7 +37,7 @@ from .contacts import Contact
 from ..errors import ModelError, did_you_mean
 from .symbols import coordinate_symbols, t
 
-from .declarations import RESERVED_NAMES, Constraint, Parameter, SimulationSettings
+from .declarations import RESERVED_NAMES, Constraint, Parameter, SimulationSettings, split_problems
 from .normalize import Normalizer
 from .expressions import float_value
 from .values import resolve_parameters, to_expr
@@ -104,6 +104,9 @@ class Model:
     def __post_init__(self):
         problems: list[str] = []
         Normalizer(self, problems).run()
+        if not problems:
+            problems += split_problems(self.simulation, [c.name for c in self.constraints],
+                                       [c.name for c in self.contacts])
         if problems:
             raise ModelError(problems, None if self.source == "<api>" else self.source)
 

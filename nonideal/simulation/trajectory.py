@@ -115,7 +115,7 @@ class Trajectory:
         M = kernel.dynamics.views(kernel.dynamics.batch(X))["M"]
         for k, m in enumerate(motions):
             if m.system.row_col:
-                values = m.values
+                values = m.reported
                 for i, j in m.system.row_col.items():
                     mult[rows[i].name][k] = values[j]
                 pos, vel = m.system.drift_rows
@@ -146,6 +146,11 @@ class Trajectory:
             energy_balance_relative=float(np.max(np.abs(balance)) / scale) if N else 0.0,
             samples=N,
         )
+        from ..modes.indeterminate import split_phases
+
+        split = split_phases(solver, motions)
+        if split:   # where the reactions are statically indeterminate: the rule, the ranges
+            diag["indeterminate"] = split
         contacts = {}
         for name, d, rec in zip(names, solver.ck.dims if names else [], records):
             label, normal, friction, slip, gap, mu_s = zip(*rec) if rec else ((),) * 6
