@@ -41,7 +41,7 @@ __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
 FORMAT_VERSION = 1
 
 TOP_KEYS = {"model", "parameters", "coordinates", "energy", "forces", "bodies", "gravity", "loads",
-            "constraints", "contacts", "initial", "simulation", "forms"}
+            "constraints", "contacts", "initial", "simulation", "forms", "units"}
 SECTION_KEYS = {
     "model": {"name", "format", "description", "source"},
     "coordinates": {"q"},
@@ -435,6 +435,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 independent=tuple(independent) if independent is not None else None,
                 simulation=settings,
                 source=source,
+                units=data.get("units"),
             )
         except ModelError as exc:
             problems += [p for p in exc.problems if p not in problems]
