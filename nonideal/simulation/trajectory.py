@@ -67,11 +67,13 @@ class Trajectory:
     -----
     Where the reactions are statically indeterminate (the rows of the mode are dependent: a
     ladder sticking at a rough wall and floor, a table's legs sticking), the multipliers and
-    contact forces are the admissible distribution with the widest margins -- the one that
-    maximizes the smallest of ``N``, ``mu_s N - |F|`` and the held multipliers among the
-    contacts whose reactions are indeterminate, and among several such the one of least norm
-    (:mod:`nonideal.modes.indeterminate`); the slip and lift-off events fire when no admissible
-    distribution is left.
+    contact forces are the admissible distribution chosen by ``[simulation] split``: by
+    default the one with the widest margins -- the one that maximizes the smallest of ``N``,
+    ``mu_s N - |F|`` and the held multipliers among the contacts whose reactions are
+    indeterminate, and among several such the one of least norm; with ``"least-norm"`` the one
+    of least compliance-weighted norm (:mod:`nonideal.modes.indeterminate`).  The slip and
+    lift-off events fire when no admissible distribution is left, whatever the rule;
+    ``diagnostics["indeterminate"]`` gives the rule and the admissible ranges per phase.
     """
 
     model: str
