@@ -263,7 +263,7 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
         for i in range(len(times)):
             sv = np.linalg.svd(W[i], compute_uv=False)
             ranks[i] = int(np.sum(sv > 1e-7 * sv.max())) if sv.max() > 0 else 0
-    info = analyse(As[0])
+    info = analyse(As[0], variables=[variables[i] for i in stay])
     frozen = {"eigenvalues": [[float(z.real), float(z.imag)] for z in info["eigenvalues"]],
               "polynomial": str(info["polynomial"]), "hurwitz": [float(h) for h in info["hurwitz"]]}
     ign = [part.coords_I[idx] for idx in sorted(S)]
