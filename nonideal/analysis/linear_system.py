@@ -239,7 +239,35 @@ def partition(b, n: int, independent: Sequence[int] | None, model: Model) -> Par
         Dn = []
     vel_D = sorted(D + Dn)
     vel_I = [j for j in range(n) if j not in vel_D]
+    if prefer:
+        _check_kept(model, prefer, n, D, I, Dn)
     return Partition(I, D, vel_I, vel_D)
+
+
+def _check_kept(model: Model, prefer, n: int, D, I, Dn) -> None:
+    """``[forms] independent`` read as everywhere (docs/MODEL_FORMAT.md, [forms]): at most
+    ``n - h`` coordinates, kept independent; the velocities kept among them as far as the
+    velocity-level constraints allow."""
+    names = list(model.coordinates)
+    listed = [names[j] for j in prefer]
+    h, k = len(D), len(Dn)
+    if len(prefer) > n - h:
+        raise ModelError(
+            f"[forms] independent: {len(prefer)} coordinates listed ({', '.join(listed)}), but the "
+            f"{h} holonomic constraint(s) on {n} coordinates leave {n - h}; list at most {n - h} "
+            "(the coordinates kept independent)", _src(model))
+    lost = [names[j] for j in prefer if j in D]
+    if not lost:
+        inside = [j for j in I if j in prefer]
+        if len(inside) <= len(I) - k:
+            lost = [names[j] for j in inside if j in Dn]
+        else:
+            lost = [names[j] for j in I if j not in prefer and j not in Dn]
+    if lost:
+        raise ModelError(
+            f"[forms] independent = {listed}: the constraints cannot keep {', '.join(lost)} "
+            "independent at this state (a singular choice); choose other independent coordinates",
+            _src(model))
 
 
 def tangent(b, part: Partition, n: int, numeric: bool):
