@@ -142,7 +142,7 @@ def _extend(model: Model) -> Extension:
                 bodies=model.bodies, loads=model.loads, gravity=model.gravity,
                 constraints=tuple(constraints), initial=initial, t0=model.t0,
                 independent=model.independent, simulation=model.simulation, source=model.source,
-                description=model.description, controls=tuple(
+                description=model.description, units=model.units, controls=tuple(
                     replace(u, direction=tuple(u.direction) + (0,) * len(w)) for u in model.controls))
     return Extension(model, ext, tuple(specs))
 
