@@ -11,7 +11,9 @@ direction) and keeps the consistent ones:
 * sliding contact: ``N >= 0`` and, at the onset (``U ~ 0``), slip acceleration along the
   assumed direction (``U' = kappa s, kappa >= 0``; for two components the direction is found
   by a one-dimensional root search);
-* "smooth" contact (a regularized law, or no friction): ``N >= 0``.
+* "smooth" contact (a regularized law, or no friction): ``N >= 0``;
+* ideally rolling contact (``mu = inf``): closed, it is either separated or rolling
+  (``N >= 0``, any friction force) -- never sliding.
 
 Static friction is preferred (a consistent sticking state wins over sliding).  If the
 consistent combinations still give different motions, or none is consistent, the problem has
@@ -63,6 +65,8 @@ def contact_options(solver: ModeSolver, kin: np.ndarray, scales, tol_pos=1e-9, t
         U = kin[at["U"] + ck.offsets[c]:at["U"] + ck.offsets[c] + ck.dims[c]]
         if not solver.laws[c].exact or c in solver.frictionless:
             opts += [ContactState(SMOOTH, (), s) for s in sigmas]
+        elif c in solver.rolling:  # ideal rolling: touching means rolling (after any impact)
+            opts.append(ContactState(STICK))
         elif np.sqrt(U @ U) <= tol_vel * sv:
             opts.append(ContactState(STICK))
             for sg in sigmas:
@@ -135,15 +139,16 @@ def _consistent(solver, motion, mode, closed_uni, scales, onset_check=True):
                 return False
             continue
         N, F = motion.normal(c), motion.friction(c)
+        cone = cs.state == STICK and c not in solver.rolling  # ideal rolling: no friction limit
         if solver.ck.data[c].bilateral:
             if cs.state in (SLIDE, SMOOTH) and cs.sigma * N < -tol_f:
                 return False
-            if cs.state == STICK and np.sqrt(F @ F) > motion.mu_s(c) * abs(N) + tol_f:
+            if cone and np.sqrt(F @ F) > motion.mu_s(c) * abs(N) + tol_f:
                 return False
         else:
             if N < -tol_f:
                 return False
-            if cs.state == STICK and np.sqrt(F @ F) > motion.mu_s(c) * N + tol_f:
+            if cone and np.sqrt(F @ F) > motion.mu_s(c) * N + tol_f:
                 return False
         U = motion.slip(c)
         if cs.state == SLIDE and onset_check and np.sqrt(U @ U) <= 1e-9 * sv:
@@ -175,6 +180,33 @@ def _same(a: Mode, b: Mode) -> bool:
         if x.state == SLIDE and len(x.direction) == 1 and x.direction != y.direction:
             return False
     return True
+
+
+def _lifting(solver, choices: list, sf: float) -> list:
+    """*choices* (consistent ``(mode, motion)`` pairs) without those that keep a contact
+    touching with a normal force at the noise level when the same choice with that contact
+    separated is consistent too: the contact is lifting off at this instant.
+
+    With a large friction coefficient (``mu = 1e9``) a sticking contact starts to slide at
+    ``N = |F|/mu``, a normal force far below the tolerance of the sign tests, where separation
+    is consistent as well; sliding and separation then differ by the friction ``mu N = |F|``,
+    finite, and looked like Painleve's indeterminacy.  A genuine indeterminacy keeps a normal
+    force well above the noise."""
+    def lifts(touching, motion, separated) -> bool:
+        if touching.held != separated.held:
+            return False
+        tol = 1e-9 * (sf + max_abs(motion.values))
+        differ = False
+        for c, ((_, a), (_, b)) in enumerate(zip(touching.contacts, separated.contacts)):
+            if a == b:
+                continue
+            if b.state != SEPARATED or a.state == SEPARATED or abs(motion.normal(c)) > tol:
+                return False
+            differ = True
+        return differ
+
+    kept = [(m, s) for m, s in choices if not any(lifts(m, s, o) for o, _ in choices if o is not m)]
+    return kept or choices
 
 
 def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
@@ -284,6 +316,8 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
                            if a.state != b.state and name != concerned)
             least = min(change(m) for m, _ in preferred)
             preferred = [(m, sol) for m, sol in preferred if change(m) == least]
+    if len(preferred) > 1:
+        preferred = _lifting(solver, preferred, scales[2])
     m0, s0 = preferred[0]
     scale = 1e-7 * (1.0 + max_abs(s0.qdd))
     distinct = [(m, s) for m, s in preferred[1:] if not np.allclose(s.qdd, s0.qdd, rtol=1e-7, atol=scale)]
@@ -407,6 +441,8 @@ def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting=
         s = U / nrm if nrm > 1e-12 * (1 + np.max(np.abs(qd))) else None
         if c in solver.frictionless:  # a normal impulse only
             s, opts = np.zeros(len(U)), ["slide", "off"]
+        elif c in solver.rolling:  # ideal rolling: the gap closes rolling (or does not close)
+            opts = ["stick", "off"]
         else:
             opts = ["stick"] + (["slide"] if s is not None and solver.laws[c].exact else []) + ["off"]
         options_c.append([(c, o, s) for o in opts])
@@ -457,7 +493,7 @@ def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting=
                     if lab[0] == "n" and value < -tol:
                         ok = False
                 for (c, o, s) in combo:
-                    if o == "stick":
+                    if o == "stick" and c not in solver.rolling:  # rolling: unbounded impulse cone
                         Ln = lam[labels.index(("n", c))]
                         Lt = np.array([lam[labels.index(("t", c, kk))] for kk in range(ck.dims[c])])
                         if np.linalg.norm(Lt) > cout["mu_s"][c] * Ln + tol:
