@@ -57,7 +57,7 @@ def _contact_mode(solver: ModeSolver, t, q, qd, held, contact_state: str) -> Mod
         if c in solver.frictionless:
             states.append((name, ContactState(SMOOTH)))
             continue
-        if contact_state == "stick":
+        if contact_state == "stick" or c in solver.rolling:  # ideal rolling never slides
             states.append((name, ContactState(STICK)))
             continue
         U = solver.ck.slip(cout, c)

@@ -570,6 +570,15 @@ def validate_contacts(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarra
                 "velocity's gradient lies in the span of the constraints and the normal; the "
                 "constraints already fix that motion, so no friction force can be identified. "
                 "Remove the constraint that fixes it or the friction on this contact")
+        U = cout["U"][o:o + d]
+        sq, sv = _scales(q, qd)
+        closed = data.bilateral or (abs(cout["gap"][c]) <= 1e-8 * sq and cout["gap_rate"][c] <= 1e-8 * sv)
+        if c in solver.rolling and closed and np.sqrt(U @ U) > 1e-8 * sv:
+            problems.append(
+                f"contact '{name}' rolls ideally (mu = inf) but slips at the state it starts from "
+                f"(slip velocity U = {', '.join(f'{u:.6g}' for u in U)} with the gap closed): an ideally "
+                "rolling contact cannot slide; give velocities that make U = 0, or start with the gap "
+                "open (the touch is then an impact that stops the slip)")
         if np.linalg.norm(cout["Gn"][c]) < 1e-14:
             problems.append(f"contact '{name}': the gap has zero gradient at the initial state, so no "
                             "normal force can be identified; write the gap as the normal distance")
