@@ -91,8 +91,8 @@ def closed_form(p: dict) -> dict:
     cos_star = (10.0 * np.cos(th0) + 7.0 * rho * w0 * w0 / g) / 17.0
     th_star = float(np.arccos(cos_star))
 
-    def rate(th):
-        return np.sqrt(w0 * w0 + k * (np.cos(th0) - np.cos(th)))
+    def rate(th):  # cos a - cos b written as a product: no cancellation near the start
+        return np.sqrt(w0 * w0 + 2.0 * k * np.sin((th0 + th) / 2) * np.sin((th - th0) / 2))
 
     def integrand(u):  # theta = theta0 + u^2, d theta = 2 u du
         if u == 0.0:
