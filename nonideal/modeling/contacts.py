@@ -28,6 +28,7 @@ __all__ = [
     "Coulomb",
     "IdealRolling",
     "is_infinite",
+    "read_infinite",
     "RegularizedCoulomb",
     "LinearizedCoulomb",
     "Plastic",
@@ -95,6 +96,34 @@ def is_infinite(value: Any) -> bool:
     if isinstance(value, float):
         return math.isinf(value) and value > 0
     return value is sp.oo
+
+
+def read_infinite(law: Any, where: str) -> tuple[Any, str | None]:
+    """A friction law with an infinite coefficient read as :class:`IdealRolling` (``Coulomb``
+    with ``mu = inf``), or the problem of a combination that has no meaning (a finite
+    ``mu_static`` with ``mu = inf``, ``mu_static = inf`` alone, a regularized law with
+    ``mu = inf``); other laws are returned as they are.
+
+    Examples
+    --------
+    >>> read_infinite(Coulomb("inf"), "contact 'c'")
+    (IdealRolling(), None)
+    >>> read_infinite(Coulomb(0.3), "contact 'c'")
+    (Coulomb(mu=0.3, mu_static=None), None)
+    """
+    if isinstance(law, Coulomb) and is_infinite(law.mu):
+        if law.mu_static is not None and not is_infinite(law.mu_static):
+            return None, (f"{where}: mu = inf (ideal rolling) with a finite mu_static = "
+                          f"{law.mu_static!r}; the static coefficient is at least the kinetic one: "
+                          "remove mu_static")
+        return IdealRolling(), None
+    if isinstance(law, Coulomb) and law.mu_static is not None and is_infinite(law.mu_static):
+        return None, (f"{where}: mu_static = inf with a finite mu = {law.mu!r}; a contact that never "
+                      "slips is written mu = \"inf\" (ideal rolling), without mu_static")
+    if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)) and is_infinite(law.mu):
+        return None, (f"{where}: mu = inf needs the exact law (friction = \"coulomb\"): a regularized "
+                      "law with infinite mu has no meaning; for ideal rolling remove friction and eps")
+    return law, None
 
 
 @dataclass(frozen=True)

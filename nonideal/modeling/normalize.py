@@ -12,7 +12,8 @@ import numpy as np
 import sympy as sp
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
-from .contacts import Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb, is_infinite
+from .contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb,
+                       read_infinite)
 from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 
@@ -496,33 +497,15 @@ class Normalizer:
             if not e.free_symbols & set(self.m.q):
                 v = e.xreplace(pvals)
                 if v.is_number and float(v) < 0:
-                    self.problems.append(
-                        f"{where}: {key} = {float(v):g} is negative; a friction coefficient "
-                        "is >= 0"
-                    )
+                    self.problems.append(f"{where}: {key} = {float(v):g} is negative; a friction "
+                                         "coefficient is >= 0")
                     return None
             return e
 
-        if isinstance(law, IdealRolling):
-            return law
-        if isinstance(law, Coulomb) and is_infinite(law.mu):
-            # mu = inf: ideal rolling; a static coefficient, if given, can only be inf too
-            if law.mu_static is not None and not is_infinite(law.mu_static):
-                self.problems.append(
-                    f"{where}: mu = inf (ideal rolling) with a finite mu_static = {law.mu_static!r}; "
-                    "the static coefficient is at least the kinetic one: remove mu_static")
-                return None
-            return IdealRolling()
-        if isinstance(law, Coulomb) and law.mu_static is not None and is_infinite(law.mu_static):
-            self.problems.append(
-                f"{where}: mu_static = inf with a finite mu = {law.mu!r}; a contact that never "
-                "slips is written mu = \"inf\" (ideal rolling), without mu_static")
-            return None
-        if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)) and is_infinite(law.mu):
-            self.problems.append(
-                f"{where}: mu = inf needs the exact law (friction = \"coulomb\"): a regularized "
-                "law with infinite mu has no meaning; for ideal rolling remove friction and eps")
-            return None
+        law, problem = read_infinite(law, where)  # mu = inf: ideal rolling, or a problem
+        if problem or isinstance(law, IdealRolling):
+            self.problems += [problem] if problem else []
+            return None if problem else law
         if isinstance(law, Coulomb):
             mu = coefficient(law.mu, "mu")
             # mu_static defaults to mu: a problem of mu is not reported again under a key the
