@@ -183,6 +183,13 @@ def _same(a: Mode, b: Mode) -> bool:
     return True
 
 
+def _differing(choices: list):
+    """The first ``(mode, motion)`` of *choices* and those whose accelerations differ from it."""
+    m0, s0 = choices[0]
+    scale = 1e-7 * (1.0 + max_abs(s0.qdd))
+    return m0, s0, [(m, s) for m, s in choices[1:] if not np.allclose(s.qdd, s0.qdd, rtol=1e-7, atol=scale)]
+
+
 def _lifting(solver, choices: list, sf: float) -> list:
     """*choices* (consistent ``(mode, motion)`` pairs) without those that keep a contact
     touching with a normal force at the noise level when the same choice with that contact
@@ -317,11 +324,10 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
                            if a.state != b.state and name != concerned)
             least = min(change(m) for m, _ in preferred)
             preferred = [(m, sol) for m, sol in preferred if change(m) == least]
-    if len(preferred) > 1:
+    m0, s0, distinct = _differing(preferred)
+    if distinct:  # a contact lifting off with a huge mu is no indeterminacy
         preferred = _lifting(solver, preferred, scales[2])
-    m0, s0 = preferred[0]
-    scale = 1e-7 * (1.0 + max_abs(s0.qdd))
-    distinct = [(m, s) for m, s in preferred[1:] if not np.allclose(s.qdd, s0.qdd, rtol=1e-7, atol=scale)]
+        m0, s0, distinct = _differing(preferred)
     if distinct:
         m1 = distinct[0][0]
         sliding = [n for n, cs in m0.contacts + m1.contacts if cs.state == SLIDE]
