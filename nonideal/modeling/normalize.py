@@ -12,7 +12,8 @@ import numpy as np
 import sympy as sp
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
-from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
+from .contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb,
+                       read_infinite)
 from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 
@@ -496,13 +497,15 @@ class Normalizer:
             if not e.free_symbols & set(self.m.q):
                 v = e.xreplace(pvals)
                 if v.is_number and float(v) < 0:
-                    self.problems.append(
-                        f"{where}: {key} = {float(v):g} is negative; a friction coefficient "
-                        "is >= 0"
-                    )
+                    self.problems.append(f"{where}: {key} = {float(v):g} is negative; a friction "
+                                         "coefficient is >= 0")
                     return None
             return e
 
+        law, problem = read_infinite(law, where)  # mu = inf: ideal rolling, or a problem
+        if problem or isinstance(law, IdealRolling):
+            self.problems += [problem] if problem else []
+            return None if problem else law
         if isinstance(law, Coulomb):
             mu = coefficient(law.mu, "mu")
             # mu_static defaults to mu: a problem of mu is not reported again under a key the
@@ -520,7 +523,7 @@ class Normalizer:
                 return None
             return type(law)(mu, float(law.eps))
         self.problems.append(
-            f"{where}: friction must be Coulomb, RegularizedCoulomb or LinearizedCoulomb"
+            f"{where}: friction must be Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb"
         )
         return None
 
