@@ -107,10 +107,13 @@ class Constraint:
 
 @dataclass(frozen=True)
 class SimulationSettings:
-    """Integrator settings: end time, tolerances, SciPy method, optional max step."""
+    """Integrator settings: end time, tolerances, SciPy method, optional max step, and what a
+    run does where the constraints become singular (``"smooth"``: go on on the smooth branch;
+    ``"stop"``)."""
 
     t_end: float | None = None
     rtol: float = 1e-10
     atol: float = 1e-12
     method: str = "DOP853"
     max_step: float | None = None
+    singular: str = "smooth"

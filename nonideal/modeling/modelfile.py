@@ -47,7 +47,7 @@ SECTION_KEYS = {
     "coordinates": {"q"},
     "energy": {"kinetic", "potential"},
     "gravity": {"vector"},
-    "simulation": {"t_end", "rtol", "atol", "method", "max_step", "t0"},
+    "simulation": {"t_end", "rtol", "atol", "method", "max_step", "t0", "singular"},
     "forms": {"independent"},
 }
 CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral", "restitution",
@@ -393,6 +393,13 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
             settings["method"] = sim["method"]
         else:
             problems.append(f"[simulation] method: must be a string (got {describe(sim['method'])})")
+    if "singular" in sim:
+        if sim["singular"] in ("smooth", "stop"):
+            settings["singular"] = sim["singular"]
+        else:
+            problems.append("[simulation] singular: must be \"smooth\" (go on through a singular "
+                            "configuration of the constraints on the smooth branch) or \"stop\" "
+                            f"(got {describe(sim['singular'])})")
     initial = data.get("initial", {})
     if not isinstance(initial, dict):
         problems.append("[initial]: must be a table name = value")
