@@ -376,7 +376,6 @@ class Simulation:
         solver = self.solver
         series = ImpactSeries()
         regularity = Regularity(self.kernel)
-        level = SINGULAR if self.singular == "stop" else JUMP_FROM
         changes = solver.charts.changes if solver.charts is not None else 0
         while t < t_end:
             fun = self.rhs(mode)
@@ -393,6 +392,7 @@ class Simulation:
             ode = Solver(fun, t, y, t_end, **kwargs)
             g_prev = [ev.value(motion) for ev in events]
             watched = regularity.rows(solver.rows(mode))
+            level = SINGULAR if self.singular == "stop" else JUMP_FROM
             regularity.start(motion, watched)
             tols = [self._tolerance(ev, motion) for ev in events]
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
@@ -422,11 +422,18 @@ class Simulation:
                 step = Step(solver, mode, ode, motion)
                 hits = event_hits(step, events, armed, tols, g_prev, g_new)
                 singular = regularity.crossing(step, watched, level) if watched else None
+                passed = None  # a singular instant carried over on the smooth branch
                 if singular is not None and (not hits or singular <= min(hits)[0]):
                     if self.singular == "stop":
                         regularity.stop(self.model, step.motion(singular), watched)
-                    t, y, dense, record = regularity.pass_through(self, mode, fun, step, singular,
-                                                                  watched, Solver, atol)
+                    passed = regularity.pass_through(self, mode, fun, step, singular, watched, Solver, atol)
+                    if passed is None:  # a near miss, or no smooth branch: guard as "stop" does
+                        level = SINGULAR
+                        singular = regularity.crossing(step, watched, level, force=True)
+                        if singular is not None and (not hits or singular <= min(hits)[0]):
+                            regularity.stop(self.model, step.motion(singular), watched)
+                if passed is not None:
+                    t, y, dense, record = passed
                     events_log.append(record)
                     if times is not None:
                         next_time = sample_dense(dense, t_old, t, times, next_time, mode, emit)

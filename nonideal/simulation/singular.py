@@ -40,8 +40,9 @@ at ``t* + 2d``, where they are regular again (Newton
 from the extrapolated state converges to the root of the smooth branch).  The run records an
 event ``type = "singular"`` naming the constraints and the branch; the multipliers are
 unbounded at ``t*`` (a pole ``~ 1/(t - t*)``) and are not sampled inside the interval.
-When the projected velocities differ from the extrapolated ones (no smooth branch exists) the
-run stops as with ``"stop"``.
+When the projected velocities differ from the extrapolated ones (the rows only came close to
+dependent and the motion turns back, or no smooth branch exists), the step is integrated as it
+is and guarded as with ``"stop"``: a singular instant without a smooth branch stops the run.
 """
 
 from __future__ import annotations
@@ -72,6 +73,9 @@ JUMP_FROM = 1e-2
 """Regularity from which the smooth branch is extrapolated over the singular instant (closer,
 the state loses accuracy as ``1/rho``: the constraints fix the coordinates along the weakest
 combination only to their residual divided by ``rho``; farther, the extrapolation does)."""
+ZERO = 1e-4
+"""Least regularity along the carried-over motion below which the rows count as singular there
+(a dip that stays above it is integrated through as it is, as it is with ``"stop"``)."""
 BASE = 4
 """Points before the singular instant whose values and derivatives the extrapolation uses
 (degree ``2 BASE - 1``)."""
@@ -129,11 +133,11 @@ class Regularity:
         out = self.kernel.dynamics(motion.solver.input(motion.t, motion.q, motion.qd))
         return np.asarray(out["G"], dtype=float).reshape(-1, motion.n), np.asarray(out["M"], dtype=float)
 
-    def crossing(self, step, rows: list[int], level: float = SINGULAR) -> float | None:
+    def crossing(self, step, rows: list[int], level: float = SINGULAR, force: bool = False) -> float | None:
         """The first time in *step* (:class:`~nonideal.simulation.guards.Step`) where the
         regularity falls to *level* (:data:`SINGULAR`; :data:`JUMP_FROM` when the run goes on
-        through), or None; the step is scanned only when :meth:`suspect` says so."""
-        if not self.suspect(step.motion(step.b), rows, level):
+        through), or None; the step is scanned only when :meth:`suspect` says so (or *force*)."""
+        if not self.suspect(step.motion(step.b), rows, level) and not force:
             return None
 
         def rho(_, s):
@@ -205,6 +209,11 @@ class Regularity:
 
         Returns
         -------
+        None
+            When the rows only come close to dependent (least regularity above :data:`ZERO`),
+            or the state projected on the constraints beyond is not the extrapolated one (the
+            motion turns back before the singular configuration, or no smooth branch exists):
+            the driver then integrates on, guarding as ``"stop"`` does.
         t_b : float
             Where the run resumes (the rows are regular again).
         y_b : ndarray
@@ -217,7 +226,8 @@ class Regularity:
         Raises
         ------
         SingularMotion
-            When no continuation with continuous velocities exists.
+            When the step cannot be re-integrated up to the singular instant, or the regularity
+            does not fall towards it.
         """
         a, n, solver = step.a, sim.n, sim.solver
         pieces = []  # (from, to, dense output) of the motion re-integrated from the step's start
@@ -250,13 +260,20 @@ class Regularity:
         fs = [np.asarray(fun(s, y), dtype=float) for s, y in zip(base, ys)]
         smooth = KroghInterpolator(np.repeat(base, 2), np.array([v for p in zip(ys, fs) for v in p]))
         t_b, t_a = t_star + 2 * d, t_s  # rho(t_b) ~ 2 JUMP_FROM: the guard is armed again
+        # the singular instant: where the rows are least regular along the extrapolated motion
+        # (which needs only the coordinates there: well conditioned)
+        found = minimize_scalar(lambda s: self.value(Motion(solver, mode, s, smooth(s)), watched),
+                                bounds=(t_a, t_b), method="bounded",
+                                options={"xatol": 1e-13 * max(1.0, abs(t_b))})
+        if found.fun > ZERO:  # only close to dependent: the step is integrated as it is
+            return None
         y_b = np.array(smooth(t_b), dtype=float)
         q, qd = sim._project(mode, t_b, y_b[:n], y_b[n:2 * n])
         change = float(np.max(np.abs(qd - y_b[n:2 * n])))
         if change > BRANCH_TOL * (1.0 + float(np.max(np.abs(y_b[n:2 * n])))):
-            self.stop(sim.model, step.motion(t_s), watched)
+            return None  # no smooth branch (or the rows only came close to dependent)
         y_b[:n], y_b[n:2 * n] = q, qd
-        _, vanishing, w = self.analyse(step.motion(t_s), watched)
+        _, vanishing, w = self.analyse(Motion(solver, mode, found.x, smooth(found.x)), watched)
         rows = self.kernel.rows
         if vanishing is not None or w is None:
             names = [rows[vanishing if vanishing is not None else watched[0]].name]
@@ -264,11 +281,6 @@ class Regularity:
         else:
             names = [rows[watched[k]].name for k in range(len(watched)) if abs(w[k]) > 1e-3 * np.max(np.abs(w))]
             why = "became dependent"
-        # the singular instant: where the rows are least regular along the extrapolated motion
-        # (which needs only the coordinates there: well conditioned)
-        found = minimize_scalar(lambda s: self.value(Motion(solver, mode, s, smooth(s)), watched),
-                                bounds=(t_a, t_b), method="bounded",
-                                options={"xatol": 1e-13 * max(1.0, abs(t_b))})
         record = {"t": float(found.x), "type": "singular", "constraint": ", ".join(names),
                   "mode": mode.label(), "branch": "smooth", "interval": [float(t_a), float(t_b)],
                   "note": f"the constraint{'s' if len(names) > 1 else ''} {why} at this instant: "
