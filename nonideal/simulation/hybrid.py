@@ -355,7 +355,7 @@ class Simulation:
         y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))
         atol = self._work_tolerances() if self.track else self.atol
         samples = SampleBuffer(self.max_samples)  # bounded: thinned past max_samples steps
-        budget = StepBudget(t0, t_end, None if model.source == "<api>" else model.source)
+        budget = StepBudget(t0, t_end, None if model.source == "<api>" else model.source, method=self.method)
         events_log: list[dict] = []
         next_time = 0
 
