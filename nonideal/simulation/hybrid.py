@@ -434,6 +434,8 @@ class Simulation:
                             regularity.stop(self.model, step.motion(singular), watched)
                 if passed is not None:
                     t, y, dense, record = passed
+                    if t > t_end:  # the end falls within the interval carried over
+                        t, y = t_end, dense(t_end)
                     events_log.append(record)
                     if times is not None:
                         next_time = sample_dense(dense, t_old, t, times, next_time, mode, emit)

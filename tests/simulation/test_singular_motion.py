@@ -44,6 +44,9 @@ def test_dependent_constraints_are_passed_through_on_the_smooth_branch_x_sin_t()
     assert "multipliers are unbounded" in event["note"]
     # the speed stays 1 (the reactions do no work on the circle with the program's speed)
     assert abs(traj.energy["balance"][-1]) < 1e-5
+    # an end time inside the interval carried over: the run ends there, on the branch
+    short = simulate(model, t_end=3.15)
+    assert short.t[-1] == 3.15 and short.q[-1, 0] == pytest.approx(math.sin(3.15), abs=1e-9)
 
 
 def test_constraints_that_only_come_close_to_dependent_are_integrated_as_they_are():
