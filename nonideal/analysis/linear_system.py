@@ -55,15 +55,26 @@ class LinearKernel:
         self.lam = [se.Symbol(f"lambda_{row.name}") for row in self.rows]
         self.controls = tuple(controls)
         self.holonomic = [i for i, row in enumerate(self.rows) if row.order == 0]
-        self.velocity_rows = [i for i, row in enumerate(self.rows) if row.order in (0, 1)]
+        # the holonomic rows' velocities first, in the order of f (partition relies on it)
+        self.velocity_rows = self.holonomic + [i for i, row in enumerate(self.rows) if row.order == 1]
+        # programs kept through the dynamics (a servo-constraint whose control reaches the
+        # program only through the dynamics): the program and its earlier conditions of dynamics
+        # hold along the closed-loop motion; the perturbations are kept on them, as on the rows
+        conditions = dyn.servo_conditions()
+        cond_f = [c for c in conditions if c.position is not None]
+        cond_c = [c for c in conditions if c.position is None and c.velocity is not None]
+        self.held = tuple((c.name, str(to_sp(c.position if c.position is not None else c.velocity)))
+                          for c in cond_f + cond_c)
         q, v, a = dyn.q, dyn.qd, dyn.qdd
         M, F = dyn.M, dyn.F
         n, r = self.n, self.r
         E = [sum((M[i, j] * a[j] for j in range(n)), se.Integer(0)) - F[i]
              - sum((self.rows[k].B[i] * self.lam[k] for k in range(r)), se.Integer(0)) for i in range(n)]
         C = [sum((row.G[j] * a[j] for j in range(n)), se.Integer(0)) + row.gamma for row in self.rows]
-        f = [self.rows[i].position for i in self.holonomic]
-        c = [self.rows[i].velocity for i in self.velocity_rows]
+        f = [self.rows[i].position for i in self.holonomic] + [x.position for x in cond_f]
+        c = ([self.rows[i].velocity for i in self.holonomic] + [x.velocity for x in cond_f]
+             + [self.rows[i].velocity for i in self.velocity_rows[len(self.holonomic):]]
+             + [x.velocity for x in cond_c])
         u = [se.Symbol(name) for name in self.controls]
         blocks = {
             "E": [E], "C": [C], "f": [f], "c": [c],
@@ -178,7 +189,7 @@ def partition(b, n: int, independent: Sequence[int] | None, model: Model) -> Par
 
     prefer = list(independent or [])
 
-    def pivots(J, allowed):
+    def pivots(J, allowed, prefer):
         """Dependent columns of J among *allowed*: the non-preferred ones first (pivoted QR),
         completed from the preferred ones when they do not reach full rank."""
         if J.shape[0] == 0:
@@ -207,7 +218,7 @@ def partition(b, n: int, independent: Sequence[int] | None, model: Model) -> Par
         return sorted(chosen)
 
     fq = b["f_q"]
-    D = pivots(fq, range(n))
+    D = pivots(fq, range(n), prefer)
     I = [j for j in range(n) if j not in D]
     cv = b["c_v"]
     # velocity rows: the holonomic rows eliminate the same dependent velocities
@@ -221,13 +232,42 @@ def partition(b, n: int, independent: Sequence[int] | None, model: Model) -> Par
             eff = Jn[:, I] - Jn[:, D] @ X
         else:
             eff = Jn[:, I]
-        piv_local = pivots(eff, range(len(I)))
+        # (the columns of eff are the independent coordinates' velocities, numbered locally)
+        piv_local = pivots(eff, range(len(I)), [k for k, j in enumerate(I) if j in prefer])
         Dn = [I[j] for j in piv_local]
     else:
         Dn = []
     vel_D = sorted(D + Dn)
     vel_I = [j for j in range(n) if j not in vel_D]
+    if prefer:
+        _check_kept(model, prefer, n, D, I, Dn)
     return Partition(I, D, vel_I, vel_D)
+
+
+def _check_kept(model: Model, prefer, n: int, D, I, Dn) -> None:
+    """``[forms] independent`` read as everywhere (docs/MODEL_FORMAT.md, [forms]): at most
+    ``n - h`` coordinates, kept independent; the velocities kept among them as far as the
+    velocity-level constraints allow."""
+    names = list(model.coordinates)
+    listed = [names[j] for j in prefer]
+    h, k = len(D), len(Dn)
+    if len(prefer) > n - h:
+        raise ModelError(
+            f"[forms] independent: {len(prefer)} coordinates listed ({', '.join(listed)}), but the "
+            f"{h} holonomic constraint(s) on {n} coordinates leave {n - h}; list at most {n - h} "
+            "(the coordinates kept independent)", _src(model))
+    lost = [names[j] for j in prefer if j in D]
+    if not lost:
+        inside = [j for j in I if j in prefer]
+        if len(inside) <= len(I) - k:
+            lost = [names[j] for j in inside if j in Dn]
+        else:
+            lost = [names[j] for j in I if j not in prefer and j not in Dn]
+    if lost:
+        raise ModelError(
+            f"[forms] independent = {listed}: the constraints cannot keep {', '.join(lost)} "
+            "independent at this state (a singular choice); choose other independent coordinates",
+            _src(model))
 
 
 def tangent(b, part: Partition, n: int, numeric: bool):

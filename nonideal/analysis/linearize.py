@@ -374,7 +374,7 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
         A_sym, B_sym = _symbolic(k, model, t0, q, v, given, part, symbolic, values, kept, rated)
         A_sym = A_sym.extract(stay, stay)
         B_sym = B_sym.extract(stay, list(range(B_sym.cols)))
-    info = analyse(A_r, A_sym, symbolic)
+    info = analyse(A_r, A_sym, symbolic, [variables[i] for i in stay])
     ctrl = controllability(A_r, B_r) if controls else {}
     freqs = natural_frequencies(pt, q, v, part, kept) if about == "equilibrium" else ()
     dependent = [names_q[j] for j in part.coords_D] + [names_v[j] for j in part.vel_D]

@@ -4,7 +4,12 @@ The programmed (servo) motion is followed by the simulation from the model's ini
 at each sample time the reduced ``A(t)``, ``B(t)`` are computed as for an equilibrium
 (:mod:`nonideal.analysis.linearize`: the perturbations stay on the constraint manifold --
 the servo-constraints included, so the programme's own constraint drift is not reported as
-instability).  For a non-autonomous first approximation the eigenvalues of ``A(t)`` decide
+instability).  A servo-constraint whose control reaches the program only through the dynamics
+(relative degree above 1: the friction speed regulator, Manglieva & Beknazarov 2022, (3.3)) is
+linearized on the closed loop: its last condition of dynamics stands for it as a row (the control
+solved from it), and the program with its earlier conditions -- which the closed loop holds but
+does not restore -- restrict the perturbations like the other constraints (the perturbed motions
+keep the program, (3.11)); they are named in ``held``.  For a non-autonomous first approximation the eigenvalues of ``A(t)`` decide
 nothing; the verdict uses
 
 * Persidsky's criterion (Manglieva & Beknazarov 2022, (3.13)): the first approximation is
@@ -81,6 +86,19 @@ class ProgramLinearization:
     dependent: tuple = ()
     frozen: dict = field(default_factory=dict)
     W: np.ndarray | None = None
+    held: tuple = ()
+
+    @property
+    def program_note(self) -> str:
+        """Why the perturbations are taken on the program when its control acts through the
+        dynamics (empty otherwise)."""
+        if not self.held:
+            return ""
+        return ("the control reaches the program only through the dynamics: the closed loop holds the "
+                "program's last condition of dynamics, not the program, so a deviation from the "
+                "program is neither restored nor amplified by the control (a chain of zero "
+                "exponents); the perturbations are taken on the program, as in Manglieva & "
+                "Beknazarov 2022, (3.11)")
 
     def to_dict(self) -> dict:
         n = len(self.variables)
@@ -97,6 +115,7 @@ class ProgramLinearization:
             "t": self.t.tolist(), "A_t": self.A.tolist(), "lognorm": self.lognorm.tolist(),
             "persidsky_alpha": self.persidsky_alpha, "exponent": self.exponent,
             "ignorable": list(self.ignorable), "dependent": list(self.dependent),
+            "held_by_program": [{"name": k, "condition": f"{e} = 0"} for k, e in self.held],
         }
         if self.controls:
             out["controls"] = list(self.controls)
@@ -113,6 +132,9 @@ class ProgramLinearization:
             lines.append(f"  eliminated by the constraints: {', '.join(self.dependent)}")
         if self.ignorable:
             lines.append(f"  ignorable (nothing depends on them): {', '.join(self.ignorable)}")
+        if self.held:
+            lines.append("  kept on the program: " + "; ".join(f"{k}: {e} = 0" for k, e in self.held)
+                         + f" ({self.program_note})")
         for k in sorted({0, len(self.t) // 2, len(self.t) - 1}):
             lines.append(f"  A({self.t[k]:.6g}) = " + np.array2string(self.A[k], precision=6).replace("\n", "\n" + " " * 14))
         lines.append(f"  logarithmic norm mu(A(t)): from {self.lognorm.min():.6g} to {self.lognorm.max():.6g}; "
@@ -241,7 +263,7 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
         for i in range(len(times)):
             sv = np.linalg.svd(W[i], compute_uv=False)
             ranks[i] = int(np.sum(sv > 1e-7 * sv.max())) if sv.max() > 0 else 0
-    info = analyse(As[0])
+    info = analyse(As[0], variables=[variables[i] for i in stay])
     frozen = {"eigenvalues": [[float(z.real), float(z.imag)] for z in info["eigenvalues"]],
               "polynomial": str(info["polynomial"]), "hurwitz": [float(h) for h in info["hurwitz"]]}
     ign = [part.coords_I[idx] for idx in sorted(S)]
@@ -249,6 +271,6 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
         model=model.name, t=times, variables=tuple(variables[i] for i in stay), A=As, B=Bs,
         controls=tuple(controls), q={c: traj.q[:, j] for j, c in enumerate(names_q)},
         qdot={c: traj.qd[:, j] for j, c in enumerate(names_q)}, lognorm=mu, persidsky_alpha=float(alpha),
-        exponent=exponent, controllability_rank=ranks, verdict=verdict, reason=reason, W=W,
+        exponent=exponent, controllability_rank=ranks, verdict=verdict, reason=reason, W=W, held=k.held,
         ignorable=tuple(names_q[j] for j in ign),
         dependent=tuple([names_q[j] for j in part.coords_D] + [names_v[j] for j in part.vel_D]), frozen=frozen)

@@ -15,7 +15,7 @@ from typing import Sequence
 import numpy as np
 import sympy as sp
 
-__all__ = ["analyse", "hurwitz_minors", "routh_hurwitz_conditions", "even_conditions", "controllability",
+__all__ = ["analyse", "zero_cluster", "null_directions", "hurwitz_minors", "routh_hurwitz_conditions", "even_conditions", "controllability",
            "verdict_of"]
 
 S = sp.Symbol("s")
@@ -68,6 +68,52 @@ def clean_eigenvalues(eig) -> np.ndarray:
     return np.array(sorted(eig, key=lambda z: (-z.real, -z.imag)), complex)
 
 
+ZERO_SAFETY = 1e3       # rounding of A taken as ZERO_SAFETY * eps * ||A|| (conditioning margin)
+
+
+def zero_cluster(A: np.ndarray, eig: np.ndarray) -> tuple[int, float]:
+    """The number ``k`` of eigenvalues of *A* that are one zero eigenvalue of multiplicity ``k``
+    split by rounding, and the largest of their moduli.
+
+    A k-fold defective zero eigenvalue (a Jordan chain, e.g. the lateral position and the
+    heading of a vehicle running straight) is moved by a perturbation ``delta`` of ``A`` by
+    about ``(delta ||A||^(k-1))^(1/k)``, the k-th root of the rounding: with
+    ``delta = ZERO_SAFETY eps ||A||`` a double zero comes out as ``+-sqrt(eps) ||A||``, not 0.
+    Their sum (the trace of the invariant block) is perturbed by ``delta`` only.  So the ``k``
+    eigenvalues of smallest modulus are a k-fold zero when each is below
+    ``(ZERO_SAFETY eps)^(1/k) ||A||`` and their sum below ``k ZERO_SAFETY eps ||A||``; the
+    largest such ``k`` is returned (0: none).  A genuine small eigenvalue alone (a capsize
+    mode near its critical speed) keeps its value: one eigenvalue is a zero only within the
+    rounding itself."""
+    A = np.asarray(A, float)
+    eig = np.asarray(eig, complex)
+    if eig.size == 0:
+        return 0, 0.0
+    norm = float(np.linalg.norm(A, 2)) if A.size else 0.0
+    if norm == 0.0:
+        return eig.size, 0.0
+    eps = np.finfo(float).eps * ZERO_SAFETY
+    order = np.argsort(np.abs(eig))
+    for k in range(eig.size, 0, -1):
+        part = eig[order[:k]]
+        if (np.abs(part).max() <= eps ** (1.0 / k) * norm
+                and abs(part.sum()) <= k * eps * norm):
+            return k, float(np.abs(part).max())
+    return 0, 0.0
+
+
+def null_directions(A: np.ndarray, k: int, variables: Sequence[str]) -> list:
+    """Names of the variables a k-fold zero eigenvalue moves: those with a sizeable component in
+    the null space of ``A^k`` (the eigenvector and its Jordan chain)."""
+    A = np.asarray(A, float)
+    if k == 0 or not len(variables):
+        return []
+    _, _, Vt = np.linalg.svd(np.linalg.matrix_power(A, k))
+    basis = Vt[-k:].T
+    weight = np.linalg.norm(basis, axis=1)
+    return [v for v, w in zip(variables, weight) if w > 0.1 * weight.max()]
+
+
 def verdict_of(eigenvalues: np.ndarray) -> tuple[str, str]:
     """("asymptotically stable" | "unstable" | "critical", why) by the first approximation."""
     if eigenvalues.size == 0:
@@ -88,10 +134,27 @@ def verdict_of(eigenvalues: np.ndarray) -> tuple[str, str]:
                         "system at a potential minimum is stable by Lagrange--Dirichlet)")
 
 
-def analyse(A: np.ndarray, A_symbolic: sp.Matrix | None = None, symbolic: Sequence[str] = ()) -> dict:
-    """Eigenvalues, characteristic polynomial (in ``s``), Hurwitz minors, conditions, verdict."""
+def analyse(A: np.ndarray, A_symbolic: sp.Matrix | None = None, symbolic: Sequence[str] = (),
+            variables: Sequence[str] = ()) -> dict:
+    """Eigenvalues, characteristic polynomial (in ``s``), Hurwitz minors, conditions, verdict.
+
+    Eigenvalues that are one multiple zero eigenvalue split by rounding (:func:`zero_cluster`)
+    are reported as zeros; the verdict says so and names the *variables* they move."""
     A = np.asarray(A, float)
     eig = np.linalg.eigvals(A) if A.size else np.zeros(0, complex)
+    k, spread = zero_cluster(A, eig)
+    note = ""
+    if k:
+        order = np.argsort(np.abs(eig))
+        eig = eig.copy()
+        eig[order[:k]] = 0.0
+        if k > 1 or spread > 0:
+            moved = null_directions(A, k, variables)
+            note = (f"; {'a zero eigenvalue' if k == 1 else f'a {k}-fold zero eigenvalue'} (computed "
+                    f"within {spread:.2g} of 0: the rounding of a multiple zero eigenvalue, "
+                    f"(eps ||A||)^(1/{k}) with ||A|| = {np.linalg.norm(A, 2):.3g}, taken as 0)"
+                    + (f", moving {', '.join(moved)}: a neighbouring motion (a family of motions "
+                       "the perturbation moves to), not a growth" if moved else ""))
     eig = clean_eigenvalues(eig)
     if A_symbolic is not None and A_symbolic.rows:
         poly = sp.Poly(A_symbolic.charpoly(S).as_expr(), S)
@@ -113,6 +176,7 @@ def analyse(A: np.ndarray, A_symbolic: sp.Matrix | None = None, symbolic: Sequen
         conditions = routh_hurwitz_conditions(coeffs, minors)
     conditions = [_integral_floats(c) for c in conditions]
     verdict, reason = verdict_of(eig)
+    reason += note
     if even and verdict == "critical":
         reason += ("; the polynomial is even in s (no dissipation): the roots are on the imaginary "
                    "axis iff the roots of P(z = s^2) are real and negative (gyroscopic stability, "

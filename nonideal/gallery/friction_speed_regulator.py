@@ -62,7 +62,10 @@ friction then acts along ``+rho``: ``m rho'' = u + f (N1 + N2)`` as printed.  ``
 simulated rho(t) against an independent integration of this scalar equation and u against
 ``m rho'' - f (N1 + N2)``.
 
-The stability of the programmed motion (3.11)--(3.13) is not part of this example.
+The stability of the programmed motion (3.11)--(3.13): ``nonideal stability
+friction-speed-regulator --about program`` linearizes the closed loop on the program
+(variable rho, ``A(t) = -M2/(n w0 rho0^2)``, Persidsky's verdict), the same first
+approximation as ``regulator-persidsky``.
 """
 
 from __future__ import annotations

@@ -113,7 +113,7 @@ def test_stability_analysis_of_upright_running(model, mats):
         assert lin.ignorable == ("x", "y", "psi", "thetaR", "thetaF")
         if v:
             assert lin.variables == ("phi", "delta", "phi'", "delta'")
-            assert lin.family == ("thetaF'",)
+            assert lin.family == ("thetaR'",)    # the rear wheel's rate: the speed v = -rR thetaR'
         i = [lin.variables.index(n) for n in ("phi", "delta", "phi'", "delta'")]
         A4 = lin.A[np.ix_(i, i)]
         np.testing.assert_allclose(A4, bb.state_matrix(mats, v), rtol=0, atol=1e-9)

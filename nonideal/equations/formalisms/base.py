@@ -153,31 +153,46 @@ class Reduction:
 
 
 def _choose_dependent(dyn: Dynamics, G: list[list], names: list[str],
-                      independent: tuple[str, ...] | None, row_names: list[str]) -> list[int]:
-    """Pick one dependent coordinate per constraint row (Markowitz pivoting, numerically safe)."""
+                      independent: tuple[str, ...] | None, row_names: list[str],
+                      holonomic: int = 0) -> list[int]:
+    """Pick one dependent coordinate per constraint row (Markowitz pivoting, numerically safe).
+
+    *independent* (``[forms] independent``: the coordinates kept independent as far as the
+    constraints allow, the same list for every form) decides the choice: exactly ``n - m``
+    names are the independent velocities themselves; more (at most ``n - h``, the coordinates
+    Lagrange II keeps) keep every unlisted coordinate dependent and take the other dependent
+    velocities among the listed ones by pivoting; fewer keep the listed ones independent and
+    choose the rest among the unlisted.  *holonomic* is ``h``, the number of holonomic rows."""
     m, n = len(G), dyn.n
     coords = list(dyn.model.coordinates)
     flat = [G[i][j] for i in range(m) for j in range(n)]
     # the initial state guides an automatic choice; a given choice is only checked generically
     inst = [x.reshape(m, n) for x in numeric_instances(dyn, flat, count=2,
-                                                         with_initial=independent is None)]
+                                                         with_initial=independent is None
+                                                         or len(independent) != n - m)]
+    listed = set()
     if independent is not None:
         ind = [coords.index(c) for c in independent]
         dep = [j for j in range(n) if j not in ind]
-        if len(dep) != m:
+        if len(ind) > n - holonomic:
             raise FormNotApplicable(
-                f"[forms] independent: {len(independent)} independent coordinates given, but with "
-                f"{m} constraint equation(s) ({', '.join(row_names)}) on {n} coordinates there are "
-                f"{n - m}; choose {n - m}"
+                f"[forms] independent: {len(ind)} coordinates listed, but the {holonomic} holonomic "
+                f"constraint(s) on {n} coordinates leave {n - holonomic} independent coordinates "
+                f"(and the {m} velocity-level constraint(s) {', '.join(row_names)} leave "
+                f"{n - m} independent velocities); list at most {n - holonomic}: the coordinates "
+                "kept by lagrange2 and the linearization, among which the reduced forms choose "
+                f"their {n - m} independent velocities -- or exactly {n - m} to choose those yourself"
             )
-        for Gn in inst:
-            if np.linalg.matrix_rank(Gn[:, dep]) < m:
-                raise FormNotApplicable(
-                    f"[forms] independent = {list(independent)}: the constraints "
-                    f"({', '.join(row_names)}) cannot be solved for the velocities of "
-                    f"{[coords[j] for j in dep]}; choose other independent coordinates"
-                )
-        return dep
+        if len(dep) == m:
+            for Gn in inst:
+                if np.linalg.matrix_rank(Gn[:, dep]) < m:
+                    raise FormNotApplicable(
+                        f"[forms] independent = {list(independent)}: the constraints "
+                        f"({', '.join(row_names)}) cannot be solved for the velocities of "
+                        f"{[coords[j] for j in dep]}; choose other independent coordinates"
+                    )
+            return dep
+        listed = set(ind)
     pattern = [[G[i][j] != 0 for j in range(n)] for i in range(m)]
     work = [g.copy() for g in inst]
     rows_left, cols_left, dep = list(range(m)), list(range(n)), []
@@ -193,7 +208,7 @@ def _choose_dependent(dyn: Dynamics, G: list[list], names: list[str],
                 if min(mags) < 1e-6:
                     continue
                 cnnz = sum(pattern[r][j] for r in rows_left)
-                key = ((rnnz - 1) * (cnnz - 1), -round(mags[0], 3), ops[i][j], -j)
+                key = (j in listed, (rnnz - 1) * (cnnz - 1), -round(mags[0], 3), ops[i][j], -j)
                 if best is None or key < best[0]:
                     best = (key, i, j)
         if best is None:
@@ -215,6 +230,18 @@ def _choose_dependent(dyn: Dynamics, G: list[list], names: list[str],
         rows_left.remove(pi)
         cols_left.remove(pj)
         dep.append(pj)
+    if listed:
+        unlisted = [j for j in range(n) if j not in listed]
+        lost = ([coords[j] for j in unlisted if j not in dep] if len(unlisted) <= m
+                else [coords[j] for j in dep if j in listed])
+        if lost:
+            raise FormNotApplicable(
+                f"[forms] independent = {[coords[j] for j in sorted(listed)]}: the constraints "
+                f"({', '.join(row_names)}) cannot "
+                + (f"be solved for the velocities of {lost}" if len(unlisted) <= m else
+                   f"keep the velocities of {lost} independent")
+                + "; choose other independent coordinates"
+            )
     return sorted(dep)
 
 
@@ -273,7 +300,8 @@ def partition(dyn: Dynamics, rows: list[ConstraintRow],
             raise FormNotApplicable(
                 f"[forms] independent: '{bad[0]}' is not a coordinate{did_you_mean(bad[0], coords)}"
             )
-    dep = _choose_dependent(dyn, [list(r.G) for r in rows], coords, independent, [r.name for r in rows])
+    dep = _choose_dependent(dyn, [list(r.G) for r in rows], coords, independent, [r.name for r in rows],
+                            sum(1 for r in rows if r.order == 0))
     return dep, [j for j in range(dyn.n) if j not in dep]
 
 
