@@ -35,7 +35,8 @@ rows that are nearly dependent, lose accuracy as ``1/rho``: at 1e-6 the velocity
 dependent pair is already 10 % off).  The step is re-integrated up to there (``t* - d``), the
 singular instant ``t*`` is located from the linear fall of ``rho``, and the state is carried
 over ``[t* - d, t* + 2d]`` by the Hermite polynomial of the motion before it (values and
-derivatives at ``t* - 3d, t* - 2d, t* - d``: degree five), then projected onto the constraints
+derivatives at ``t* - 4d, ..., t* - d``, each integrated to from the step's start: degree
+seven), then projected onto the constraints
 at ``t* + 2d``, where they are regular again (Newton
 from the extrapolated state converges to the root of the smooth branch).  The run records an
 event ``type = "singular"`` naming the constraints and the branch; the multipliers are
@@ -238,6 +239,7 @@ class Regularity:
                 pieces.append((min(ode.t_old, ode.t), max(ode.t_old, ode.t), ode.dense_output()))
             if ode.status != "finished":
                 self.stop(sim.model, step.motion(t_s), watched)
+            return ode.y
 
         def before(s):
             return next((d for lo, hi, d in pieces if lo <= s <= hi), pieces[-1][2])(s)
@@ -254,9 +256,10 @@ class Regularity:
         t_star = t_s + rho_s * (t_s - t_p) / (rho_p - rho_s)  # rho falls linearly to zero at t*
         d = t_star - t_s
         base = [t_star - k * d for k in range(BASE, 0, -1)]
-        if base[0] < a:  # the motion before the step, back to the first base point
-            integrate(a, step.state(a), base[0])
-        ys = [before(s) for s in base]
+        # the states there integrated to, from the step's start (not read on a dense output,
+        # whose order is lower than the integrator's: Radau's is 3)
+        y_a = step.state(a)
+        ys = [y_a if s == a else integrate(a, y_a, s) for s in base]
         fs = [np.asarray(fun(s, y), dtype=float) for s, y in zip(base, ys)]
         smooth = KroghInterpolator(np.repeat(base, 2), np.array([v for p in zip(ys, fs) for v in p]))
         t_b, t_a = t_star + 2 * d, t_s  # rho(t_b) ~ 2 JUMP_FROM: the guard is armed again

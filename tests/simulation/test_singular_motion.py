@@ -78,6 +78,9 @@ def test_a_vanishing_gradient_is_passed_through_three_times_on_the_harmonic_moti
                                                          abs=1e-6)
     # energy m/2 (x'^2 + z'^2) + k x^2/2 conserved (the reaction is ideal on the smooth branch)
     assert abs(traj.energy["balance"][-1]) < 1e-9
+    # with an implicit integrator (its dense output is of lower order than its steps)
+    radau = simulate(model, method="Radau", times=np.linspace(0.0, 10.0, 41))
+    assert np.max(np.abs(radau.q[:, 0] - np.sin(w * radau.t) / w)) < 1e-8
 
 
 def test_stop_ends_the_run_at_t_pi_naming_the_constraints():
