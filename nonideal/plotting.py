@@ -56,45 +56,57 @@ def _hermite(t: np.ndarray, y: np.ndarray, dy: np.ndarray, points: int = 12):
 
 
 def angle_coordinates(model) -> set[str]:
-    """The coordinates that are angles: a planar body's ``angle``, or a coordinate inside the
-    argument of a trigonometric function anywhere in the model (the rest are lengths)."""
-    import sympy as sp
+    """The coordinates that are angles (:func:`~nonideal.modeling.units.coordinate_kinds`: the
+    model's ``[units] coordinates``, a planar body's or a torque's ``angle``, a trigonometric
+    argument, a rotational kinetic energy term ``I q'^2/2``, a name like ``phi`` when nothing
+    else decides); the rest are lengths or have units of their own."""
+    from .modeling.units import coordinate_kinds
 
     if model is None:
         return set()
-    names = set(model.coordinates)
-    found: set[str] = set()
-    exprs = [model.kinetic, model.potential, *model.forces.values()] if isinstance(model.forces, dict) \
-        else [model.kinetic, model.potential]
-    for b in model.bodies:
-        if getattr(b, "angle", None) is not None:
-            found |= {s.name for s in sp.sympify(b.angle).free_symbols} & names
-        exprs += [*getattr(b, "position", ()), *(x for row in (getattr(b, "rotation", None) or ()) for x in row)]
-    exprs += [c.expr for c in model.constraints] + [c.gap for c in model.contacts]
-    exprs += [u for c in model.contacts for u in c.slip]
-    trig = (sp.sin, sp.cos, sp.tan, sp.cot, sp.sec, sp.csc)
-    for e in exprs:
-        for f in sp.sympify(e).atoms(*trig):
-            found |= {s.name for s in f.args[0].free_symbols} & names
-    return found
+    return {n for n, k in coordinate_kinds(model).items() if k == "angle"}
+
+
+def _groups(traj, model):
+    """``(kind, names, unit, velocity label)`` per panel pair: lengths, angles, then each other
+    declared unit; units from the model's ``[units]`` ("model units" where not declared)."""
+    from .modeling.units import Units, coordinate_kinds
+
+    units = getattr(model, "units", None) or Units()
+    kinds = coordinate_kinds(model) if model is not None else {c: "length" for c in traj.coordinates}
+    time = units.time or "time unit"
+    out = []
+    lengths = [c for c in traj.coordinates if kinds.get(c) == "length"]
+    if lengths:
+        u = units.length or "model units"
+        out.append(("lengths", lengths, u, f"velocities ({u}/{time})"))
+    angles = [c for c in traj.coordinates if kinds.get(c) == "angle"]
+    if angles:
+        out.append(("angles", angles, units.angle, f"angular velocities ({units.angle}/{time})"))
+    others: dict[str, list[str]] = {}
+    for c in traj.coordinates:
+        if kinds.get(c) == "other":
+            others.setdefault(units.coordinates[c], []).append(c)
+    for u, names in others.items():
+        out.append(("coordinates", names, u, f"rates ({u}/{time})"))
+    return out, units
 
 
 def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
-    """Write a PNG: the coordinates and velocities (lengths and angles on separate axes, with
-    units: rad for angles, "model units" otherwise -- the library does not convert units), the
+    """Write a PNG: the coordinates and velocities (lengths, angles and coordinates with units
+    of their own on separate axes, with the units the model declares in ``[units]``, rad for
+    angles, "model units" where nothing is declared -- the library does not convert units), the
     multipliers and contact forces (named: normal, friction along each slip direction), the
     energy terms, the energy balance residual in its own panel, the control forces of
     servo-constraints with their work, and the contact modes.
 
     Event times are marked with vertical lines; contact modes (when there are contacts) are
     drawn as a timeline whose legend, above the bars, lists the states that occur
-    (:func:`mode_colors`).  *model* tells the angles from the lengths.
+    (:func:`mode_colors`).  *model* tells the angles from the lengths
+    (:func:`angle_coordinates`) and gives the units.
     """
     has_contacts = bool(traj.contacts)
-    angles = angle_coordinates(model)
-    lengths = [c for c in traj.coordinates if c not in angles]
-    kinds = [("lengths", lengths, "model units"), ("angles", [c for c in traj.coordinates if c in angles], "rad")]
-    kinds = [k for k in kinds if k[1]]
+    kinds, units = _groups(traj, model)
     controls = getattr(traj, "controls", {}) or {}
     panels = 2 * len(kinds) + 3 + (1 if has_contacts else 0) + (1 if controls else 0)
     fig, axes = plt.subplots(panels, 1, figsize=(8, 2.1 * panels), sharex=True)
@@ -103,7 +115,7 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
     tt, q = _hermite(t, traj.q, traj.qd)
     tv, qd = _hermite(t, traj.qd, traj.qdd)
     k = 0
-    for kind, names, unit in kinds:
+    for kind, names, unit, rate in kinds:
         ax = axes[k]
         for c in names:
             ax.plot(tt, q[:, index[c]], label=c)
@@ -112,8 +124,7 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
         ax = axes[k + 1]
         for c in names:
             ax.plot(tv, qd[:, index[c]], label=c + "'")
-        ax.set_ylabel(f"{'velocities' if kind == 'lengths' else 'angular velocities'} "
-                      f"({unit}/time unit)" if unit != "rad" else "angular velocities (rad/time unit)")
+        ax.set_ylabel(rate)
         ax.legend(loc="best", fontsize=8, ncol=min(4, len(names)))
         k += 2
     ax = axes[k]
@@ -126,7 +137,13 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
             for j in range(fr.shape[1]):
                 along = "" if fr.shape[1] == 1 else f" along slip {j + 1}"
                 ax.plot(t, fr[:, j], "--", label=f"friction {name}{along}")
-    ax.set_ylabel("reactions (model units)")
+    force = units.force()
+    if force is None:
+        ax.set_ylabel("reactions (model units)")
+    elif traj.multipliers:
+        ax.set_ylabel(f"reactions\n(contact forces in {force})" if traj.contacts else "reactions (model units)")
+    else:
+        ax.set_ylabel(f"contact forces ({force})")
     if ax.lines:
         ax.legend(loc="best", fontsize=8, ncol=2)
     ax = axes[k + 1]
@@ -139,7 +156,7 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
         ax.plot(t, e["reaction_work"], label="reaction work")
     if np.any(e.get("impact_work", 0)):
         ax.plot(t, e["impact_work"], label="impact work")
-    ax.set_ylabel("energy (model units)")
+    ax.set_ylabel(f"energy ({units.energy() or 'model units'})")
     ax.legend(loc="best", fontsize=8)
     ax = axes[k + 2]
     ax.plot(t, e["balance"], color="0.4", lw=0.8)
@@ -176,7 +193,7 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
         for ev in traj.events:
             a.axvline(ev["t"], color="k", lw=0.5, alpha=0.4)
         a.grid(alpha=0.3)
-    axes[-1].set_xlabel("t (time, model units)")
+    axes[-1].set_xlabel(f"t ({units.time})" if units.time else "t (time, model units)")
     fig.suptitle(title or traj.model)
     fig.tight_layout()
     fig.savefig(path, dpi=110, format="png")
@@ -402,8 +419,9 @@ def animate_trajectory(traj, model, path, frames: int = 80, fps: int = 20) -> No
     ax.set_ylim(min(ys) - pad, max(ys) + pad)
     ax.set_aspect("equal")
     ax.grid(alpha=0.3)
-    ax.set_xlabel("x (model units)")
-    ax.set_ylabel("y (model units)")
+    length = getattr(getattr(model, "units", None), "length", None) or "model units"
+    ax.set_xlabel(f"x ({length})")
+    ax.set_ylabel(f"y ({length})")
     artists = []
     for name, kind, _, _ in shapes:
         (line,) = ax.plot([], [], "-o" if kind == "segment" else "o", lw=3, ms=5, label=name)

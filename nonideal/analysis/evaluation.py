@@ -29,6 +29,7 @@ from ..equations.formalisms import FORMS
 from ..modeling.arguments import real_number, require_form, require_mapping, require_model
 from ..modeling.expressions import float_value, parse_expression
 from ..modeling.model import Model
+from ..modes.indeterminate import split_report
 from ..modes.solver import ModeSolver
 from ..numeric.kernel import kernel_of, parameter_vector
 
@@ -247,8 +248,11 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
         numbers under the name every row has.  Where the
         reactions are statically indeterminate (dependent rows: a ladder sticking at a rough
         wall and floor), the multipliers and contact forces are the admissible distribution
-        with the widest margins, the least-norm one among several (:mod:`nonideal.modes.indeterminate`),
-        and a sticking contact's ``margin`` is its margin in that distribution.
+        chosen by ``[simulation] split``: by default the one with the widest margins, the
+        least-norm one among several; with ``split = "least-norm"`` the one of least
+        (compliance-weighted) norm (:mod:`nonideal.modes.indeterminate`); ``indeterminate``
+        then holds the rule and the admissible range of each of these forces, and a sticking
+        contact's ``margin`` is its margin in the distribution shown.
     """
     from ..modes.switching import select_mode, validate_state
 
@@ -269,33 +273,8 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     solver = ModeSolver(kernel, params, form, independent)
     validate_state(solver, t, q, qd)
     mode = select_mode(solver, t, q, qd)
-    sol = solver.solve(t, q, qd, mode)
+    sol = solver.solve(t, q, qd, mode).reported
     return _report(model, form, t, q, qd, mode, sol, solver)
-
-
-def _indeterminate(solver, mode, sol, t, q, qd) -> dict[str, Any]:
-    """The rule and the admissible range of each statically indeterminate force (empty when
-    the mode's reactions are unique)."""
-    if not sol.layout or not solver.system(mode).dependent(sol.Gm):
-        return {}
-    from ..modes.indeterminate import admissible_ranges
-
-    cout = solver.ck(solver.input(t, q, qd)) if solver.ck else {}
-    ranges = admissible_ranges(solver, mode, sol.layout, sol.Bm, sol.M @ sol.qdd - sol.F, cout)
-    names = solver.ck.names if solver.ck else []
-    out = {}
-    for j, (lo, hi) in ranges.items():
-        r = sol.layout[j]
-        if r.kind == "constraint":
-            label = f"lambda_{solver.kernel.rows[r.index].name}"
-        elif r.kind == "normal":
-            label = f"N {names[r.index]}"
-        else:
-            label = f"F {names[r.index]}" + (f"[{r.k + 1}]" if solver.ck.dims[r.index] > 1 else "")
-        out[label] = [lo, hi, float(sol.values[j])]
-    return {"rule": "widest margin (the distribution maximizing the smallest of N, mu_s N - |F| "
-                    "and the held multipliers; the least-norm one among several)",
-            "ranges": out}
 
 
 def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
@@ -372,4 +351,4 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
         contacts[name] = info
     return Evaluation(model.name, form, t, tuple(model.coordinates), q, qd, sol.qdd, mode.label(),
                       multipliers, reactions, contacts, split is not None,
-                      _indeterminate(solver, mode, sol, t, q, qd))
+                      split_report(solver, mode, sol, t, q, qd))

@@ -86,6 +86,10 @@ def run(args) -> int:
         outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(fine, tmp, model=model))
     heat = _actuator_heat(model, traj, args.form, options)
     payload = traj.to_dict()
+    from ..modeling.units import units_report
+
+    units = units_report(model)
+    payload["units"] = units
     if heat is not None:
         payload["actuator_heat"] = heat
     stdout = None
@@ -102,10 +106,12 @@ def run(args) -> int:
               f"({d['samples']} samples, {d['events']} events, form {d['form']}, {d['method']})")
         from ..numeric.display import number
 
+        def unit(u):   # shown where the model declares its units ([units])
+            return f" {u}" if units["declared"] and u else ""
         for k, c in enumerate(traj.coordinates):   # noise against the coordinate's range: 0
             sq, sv = float(abs(traj.q[:, k]).max()), float(abs(traj.qd[:, k]).max())
-            print(f"  {c:>10}(t_end) = {number(traj.q[-1, k], sq, 12, True)}   "
-                  f"{c}'(t_end) = {number(traj.qd[-1, k], sv, 12, True)}")
+            print(f"  {c:>10}(t_end) = {number(traj.q[-1, k], sq, 12, True)}{unit(units['q'][c])}   "
+                  f"{c}'(t_end) = {number(traj.qd[-1, k], sv, 12, True)}{unit(units['qdot'][c])}")
         shown = traj.events if len(traj.events) <= 24 else traj.events[:20]
         for e in shown:
             zeno = (f" (accumulation of impacts, geometric ratio {e['ratio']:.6g}, after "
@@ -118,6 +124,15 @@ def run(args) -> int:
             last = traj.events[-1]
             print(f"  ... {len(traj.events) - len(shown)} more events, the last at t = {last['t']:.12g} "
                   f"-> mode [{last.get('mode', '')}] (all of them: --json or --csv)")
+        split = d.get("indeterminate")
+        if split:
+            print(f"  statically indeterminate reactions (the motion is unique, their split is "
+                  f"not); shown: {split['rule']}")
+            for ph in split["phases"]:
+                print(f"    t = {ph['t'][0]:.12g} .. {ph['t'][1]:.12g} [{ph['mode']}], at the end:")
+                for label, (lo, hi, shown) in ph["end"].items():
+                    print(f"      {label}: shown {number(shown, None, 8)}, admissible from "
+                          f"{number(lo, None, 8)} to {number(hi, None, 8)}")
         if heat is not None:
             print(f"  work of the reactions A = {traj.energy['reaction_work'][-1]:.12g}, heat lost in "
                   f"the drives W = {heat['total']:.12g} (Briskin et al. 2021, (3.7))")

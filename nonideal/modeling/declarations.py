@@ -3,21 +3,25 @@ reaction direction and order) and :class:`SimulationSettings`, and the names the
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-from dataclasses import dataclass
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 
+from ..errors import did_you_mean
 from .expressions import CONSTANTS, FUNCTIONS
 
 __all__ = ["Parameter", "Constraint", "SimulationSettings", "RESERVED_NAMES", "CONSTRAINT_TYPES",
-           "METHODS"]
+           "METHODS", "SPLIT_RULES", "split_problems"]
 
 RESERVED_NAMES = frozenset({"t"} | set(FUNCTIONS) | set(CONSTANTS))
 
 CONSTRAINT_TYPES = ("holonomic", "nonholonomic", "servo")
 ROOT_RULES = ("largest", "smallest")
 METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+#: how the reactions of a statically indeterminate contact set are split (the motion does not
+#: depend on it): see :mod:`nonideal.modes.indeterminate`
+SPLIT_RULES = ("widest-margin", "least-norm")
 
 
 @dataclass(frozen=True)
@@ -117,3 +121,44 @@ class SimulationSettings:
     method: str = "DOP853"
     max_step: float | None = None
     singular: str = "smooth"
+    #: the rule that splits statically indeterminate reactions (one of :data:`SPLIT_RULES`)
+    split: str = "widest-margin"
+    #: the relative compliance of each row in the ``least-norm`` rule, by constraint or contact
+    #: name: ``(c,)`` for every component, ``(c_normal, c_tangential)`` for a contact; 1 if absent
+    split_weights: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+
+    def __post_init__(self):
+        if isinstance(self.split_weights, Mapping):   # a number for every component, or a list
+            object.__setattr__(self, "split_weights", {
+                k: tuple(v) if isinstance(v, (list, tuple)) else (v,) for k, v in self.split_weights.items()})
+
+    def __hash__(self) -> int:
+        return hash((self.t_end, self.rtol, self.atol, self.method, self.max_step, self.singular,
+                     self.split, tuple(sorted(self.split_weights.items()))))
+
+
+def split_problems(settings: SimulationSettings, constraints: Iterable[str],
+                   contacts: Iterable[str]) -> list[str]:
+    """What is wrong with ``[simulation] split`` and ``split_weights`` (empty when nothing)."""
+    out = []
+    if settings.split not in SPLIT_RULES:
+        out.append(f"[simulation] split: '{settings.split}' unknown{did_you_mean(str(settings.split), SPLIT_RULES)}; "
+                   f"choose one of {', '.join(SPLIT_RULES)}")
+    weights = settings.split_weights
+    if not isinstance(weights, Mapping):
+        return out + [f"[simulation] split_weights: must be a table name = weight (got {weights!r})"]
+    rows, touching = set(constraints), set(contacts)
+    for name, w in weights.items():
+        if name not in rows | touching:
+            out.append(f"[simulation] split_weights: '{name}' is not a constraint or contact"
+                       f"{did_you_mean(str(name), sorted(rows | touching))}")
+            continue
+        size = (1, 2) if name in touching else (1,)
+        if not (isinstance(w, tuple) and len(w) in size
+                and all(isinstance(v, (int, float)) and not isinstance(v, bool) and 0 < v < float("inf") for v in w)):
+            form = "a number > 0, or [normal, tangential] numbers > 0" if name in touching else "a number > 0"
+            out.append(f"[simulation] split_weights: {name} must be {form} (got {w!r})")
+    if weights and settings.split != "least-norm" and settings.split in SPLIT_RULES:
+        out.append("[simulation] split_weights: used by split = \"least-norm\" only (split is "
+                   f"\"{settings.split}\"); set split = \"least-norm\" or remove the weights")
+    return out

@@ -37,8 +37,9 @@ from .contacts import Contact
 from ..errors import ModelError, did_you_mean
 from .symbols import coordinate_symbols, t
 
-from .declarations import RESERVED_NAMES, Constraint, Parameter, SimulationSettings
+from .declarations import RESERVED_NAMES, Constraint, Parameter, SimulationSettings, split_problems
 from .normalize import Normalizer
+from .units import Units, units_of
 from .expressions import float_value
 from .values import resolve_parameters, to_expr
 
@@ -80,6 +81,9 @@ class Model:
     source : str
         Where the model came from (a file name), used in error messages.
     description : str
+    units : Units or mapping, optional
+        Declared units (``length``, ``mass``, ``time``, ``angle``, ``coordinates``: the kind
+        or unit of a coordinate), for labels and outputs only (:mod:`nonideal.modeling.units`).
     """
 
     name: str
@@ -99,11 +103,18 @@ class Model:
     simulation: SimulationSettings = field(default_factory=SimulationSettings)
     source: str = "<api>"
     description: str = ""
+    units: Units | Mapping[str, Any] | None = None
 
     # ------------------------------------------------------------------ construction
     def __post_init__(self):
         problems: list[str] = []
         Normalizer(self, problems).run()
+        if not problems:
+            problems += split_problems(self.simulation, [c.name for c in self.constraints],
+                                       [c.name for c in self.contacts])
+        units, more = units_of(self.units, self.coordinates)
+        object.__setattr__(self, "units", units)
+        problems += more
         if problems:
             raise ModelError(problems, None if self.source == "<api>" else self.source)
 

@@ -41,13 +41,14 @@ __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
 FORMAT_VERSION = 1
 
 TOP_KEYS = {"model", "parameters", "coordinates", "energy", "forces", "bodies", "gravity", "loads",
-            "constraints", "contacts", "initial", "simulation", "forms"}
+            "constraints", "contacts", "initial", "simulation", "forms", "units"}
 SECTION_KEYS = {
     "model": {"name", "format", "description", "source"},
     "coordinates": {"q"},
     "energy": {"kinetic", "potential"},
     "gravity": {"vector"},
-    "simulation": {"t_end", "rtol", "atol", "method", "max_step", "t0", "singular"},
+    "simulation": {"t_end", "rtol", "atol", "method", "max_step", "t0", "split", "split_weights",
+                   "singular"},
     "forms": {"independent"},
 }
 CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral", "restitution",
@@ -388,11 +389,14 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                                 f"(got {float(value):g})")
             elif value is not None:
                 settings[key] = float(value)
-    if "method" in sim:
-        if isinstance(sim["method"], str):
-            settings["method"] = sim["method"]
-        else:
-            problems.append(f"[simulation] method: must be a string (got {describe(sim['method'])})")
+    for key in ("method", "split"):
+        if key in sim:
+            if isinstance(sim[key], str):
+                settings[key] = sim[key]
+            else:
+                problems.append(f"[simulation] {key}: must be a string (got {describe(sim[key])})")
+    if "split_weights" in sim:
+        settings["split_weights"] = _split_weights(sim["split_weights"], check, problems)
     if "singular" in sim:
         if sim["singular"] in ("smooth", "stop"):
             settings["singular"] = sim["singular"]
@@ -439,6 +443,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 independent=tuple(independent) if independent is not None else None,
                 simulation=settings,
                 source=source,
+                units=data.get("units"),
             )
         except ModelError as exc:
             problems += [p for p in exc.problems if p not in problems]
@@ -452,6 +457,22 @@ class _ConstraintSpec(dict):
         return Constraint(self["name"], self["expr"], self["kind"], self["unilateral"],
                           self["reaction"], self["transform"], restitution=self["restitution"],
                           losses=self["losses"], root=self["root"], cost=self["cost"])
+
+
+def _split_weights(table: Any, check: Checker, problems: list[str]) -> dict[str, tuple]:
+    """``[simulation] split_weights = {name = c, contact = [c_normal, c_tangential]}``: numbers
+    or expressions in the parameters (their values checked with the model's names)."""
+    if not isinstance(table, dict):
+        problems.append(f"[simulation] split_weights: must be a table, e.g. split_weights = "
+                        f"{{wall = 1.0, floor = [1.0, 2.0]}} (got {describe(table)})")
+        return {}
+    out = {}
+    for name, value in table.items():
+        items = value if isinstance(value, list) else [value]
+        where = f"[simulation] split_weights {name}"
+        numbers = [check.number({"weight": v}, "weight", where, None, positive=True) for v in items]
+        out[name] = tuple(float(v) if v is not None else float("nan") for v in numbers)
+    return out
 
 
 def _array_of_tables(data: dict, key: str, problems: list[str]) -> list[dict]:

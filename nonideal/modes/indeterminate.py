@@ -53,7 +53,17 @@ from scipy.optimize import linprog, nnls
 
 from .types import STICK
 
-__all__ = ["Distribution", "best_distribution", "maxmin"]
+__all__ = ["Distribution", "best_distribution", "maxmin", "least_norm_distribution", "row_weights",
+           "admissible_ranges", "split_report", "split_phases", "RULE_TEXT"]
+
+#: how each rule of ``[simulation] split`` is described in the outputs
+RULE_TEXT = {
+    "widest-margin": "widest margin (the distribution maximizing the smallest of N, mu_s N - |F| "
+                     "and the held multipliers; the least-norm one among several)",
+    "least-norm": "least norm (the admissible distribution minimizing the sum of the squared "
+                  "reactions, each weighted by its compliance: the limit of stiff elastic "
+                  "supports, Menabrea's least work)",
+}
 
 #: singular values of ``B`` below this (relative) span its null space
 NULL_RTOL = 1e-10
@@ -123,6 +133,72 @@ def best_distribution(solver, mode, layout, B: np.ndarray, R: np.ndarray, cout: 
     cone_data = [(Z.T @ nv, nv @ lam / scale, T @ Z, T @ lam / scale) for nv, T in cones]
     w, t = maxmin(lin_a, lin_b, cone_data, cap=1.0)
     return Distribution(lam + Z @ (w * scale), t * scale, determinate)
+
+
+def row_weights(solver, layout, weights) -> np.ndarray:
+    """The compliance of each layout row from ``[simulation] split_weights`` (*weights*: name ->
+    ``(c,)`` or ``(c_normal, c_tangential)``; 1 where not given)."""
+    names = solver.ck.names if solver.ck else []
+    out = np.ones(len(layout))
+    for j, r in enumerate(layout):
+        name = solver.kernel.rows[r.index].name if r.kind == "constraint" else names[r.index]
+        w = weights.get(name)
+        if w:
+            out[j] = w[-1] if r.kind == "tangent" else w[0]
+    return out
+
+
+def least_norm_distribution(solver, mode, layout, B: np.ndarray, R: np.ndarray, cout: dict,
+                            weights: np.ndarray) -> np.ndarray | None:
+    """The admissible distribution of least weighted norm: ``min sum_j c_j lambda_j^2`` over
+    ``lambda = lambda_p + Z w`` with every condition of the module docstring satisfied (``c_j``
+    the rows' compliances *weights*).  With ``c_j = 1/k_j`` this is the complementary energy of
+    supports of stiffness ``k_j`` (Menabrea's least work): the rigid limit of stiff elastic
+    supports loaded from rest, as long as none of them slips.  Solved as least-distance
+    programming (:meth:`_Problem.least_norm`) in the coordinates ``v = R w + Q^T b`` of the
+    factorization ``D Z = Q R`` (``D = diag(sqrt(c))``, ``b = D lambda_p``); None when no
+    distribution is admissible (at a switching instant) or the cuts do not converge.
+
+    Parameters
+    ----------
+    solver, mode, layout, B, R, cout
+        As for :func:`best_distribution`.
+    weights : ndarray, shape (m,)
+        Compliance of each layout row (> 0).
+
+    Returns
+    -------
+    ndarray, shape (m,), or None
+    """
+    m = len(layout)
+    U, S, Vt = np.linalg.svd(B, full_matrices=True)
+    rank = int(np.sum(S > NULL_RTOL * max(S[0], 1e-300))) if S.size else 0
+    lam = Vt[:rank].T @ ((U[:, :rank].T @ R) / S[:rank])
+    Z = Vt[rank:].T
+    free = np.linalg.norm(Z, axis=1) > DETERMINATE_TOL if Z.size else np.zeros(m, dtype=bool)
+    if not free.any():
+        return lam
+    linear, cones = _conditions(solver, mode, layout, lam, cout, free)
+    scale = 1.0 + float(np.max(np.abs(R))) + float(np.max(np.abs(lam)))
+    if not (linear or cones):       # nothing bounds the split: the weighted least squares
+        D = np.sqrt(np.asarray(weights, dtype=float))
+        w = np.linalg.lstsq(D[:, None] * Z, -D * lam, rcond=None)[0]
+        return lam + Z @ w
+    D = np.sqrt(np.asarray(weights, dtype=float))
+    Q, Rf = np.linalg.qr(D[:, None] * Z)
+    c0 = Q.T @ (D * lam) / scale
+    Ri = np.linalg.inv(Rf)          # w = Ri (v - c0), in units of the force scale
+    lin_a = np.array([Z.T @ c for c in linear]).reshape(len(linear), Z.shape[1]) @ Ri
+    lin_b = np.array([c @ lam for c in linear]) / scale - lin_a @ c0
+    cone_data = []
+    for nv, T in cones:
+        a, A = (Z.T @ nv) @ Ri, (T @ Z) @ Ri
+        cone_data.append((a, nv @ lam / scale - a @ c0, A, T @ lam / scale - A @ c0))
+    problem = _Problem(lin_a, lin_b, cone_data)
+    v = problem.least_norm(0.0, None)
+    if v is None:
+        return None
+    return lam + Z @ (Ri @ (v - c0) * scale)
 
 
 def _conditions(solver, mode, layout, lam, cout, free):
@@ -381,3 +457,72 @@ def admissible_ranges(solver, mode, layout, B: np.ndarray, R: np.ndarray, cout: 
                 bounds.append(lam[j] + sign * res.fun)
         out[int(j)] = (float(bounds[0]), float(bounds[1]))
     return out
+
+
+def split_report(solver, mode, sol, t: float, q: np.ndarray, qd: np.ndarray) -> dict:
+    """The rule of the split shown (``[simulation] split``) and the admissible range of each
+    statically indeterminate force, ``{"rule", "ranges": {label: [min, max, shown]}}``; empty
+    when the mode's reactions are unique.  Labels: ``N <contact>``, ``F <contact>`` (``[k]``
+    for a component of two), ``lambda_<constraint>``.
+
+    Parameters
+    ----------
+    solver : ModeSolver
+    mode : Mode
+    sol : Solution
+        The motion at the state, with the reported multipliers (``Solution.reported``).
+    t : float
+    q, qd : ndarray, shape (n_q,)
+    """
+    if not sol.layout or not solver.system(mode).dependent(sol.Gm):
+        return {}
+    cout = solver.ck(solver.input(t, q, qd)) if solver.ck else {}
+    ranges = admissible_ranges(solver, mode, sol.layout, sol.Bm, sol.M @ sol.qdd - sol.F, cout)
+    names = solver.ck.names if solver.ck else []
+    shown = sol.reported.values
+    out = {}
+    for j, (lo, hi) in ranges.items():
+        r = sol.layout[j]
+        if r.kind == "constraint":
+            label = f"lambda_{solver.kernel.rows[r.index].name}"
+        elif r.kind == "normal":
+            label = f"N {names[r.index]}"
+        else:
+            label = f"F {names[r.index]}" + (f"[{r.k + 1}]" if solver.ck.dims[r.index] > 1 else "")
+        out[label] = [lo, hi, float(shown[j])]
+    rule = solver.split[0]
+    return {"rule": RULE_TEXT[rule], "split": rule, "ranges": out}
+
+
+def split_phases(solver, motions) -> dict:
+    """Where along a trajectory the reactions are statically indeterminate: ``{"rule", "split",
+    "phases": [{"t": [start, end], "mode", "start": ranges, "end": ranges}]}`` (ranges as in
+    :func:`split_report`, at the first and last sample of each phase); empty when nowhere.
+
+    Parameters
+    ----------
+    solver : ModeSolver
+    motions : sequence of Motion
+        The motion at each sample, in time order.
+    """
+    phases, previous = [], -2
+    for k, m in enumerate(motions):
+        if not m.indeterminate:
+            continue
+        label = m.mode.label()
+        if phases and phases[-1][0] == label and previous == k - 1:
+            phases[-1][2] = m
+        else:
+            phases.append([label, m, m])
+        previous = k
+    if not phases:
+        return {}
+    out = []
+    for label, first, last in phases:
+        entry = {"t": [float(first.t), float(last.t)], "mode": label}
+        for key, m in (("start", first), ("end", last)):
+            sol = solver.solve(m.t, m.q, m.qd, m.mode).reported
+            entry[key] = split_report(solver, m.mode, sol, m.t, m.q, m.qd).get("ranges", {})
+        out.append(entry)
+    rule = solver.split[0]
+    return {"rule": RULE_TEXT[rule], "split": rule, "phases": out}

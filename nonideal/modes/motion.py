@@ -109,24 +109,39 @@ class Motion:
             self._values = -sol[self.n:] if sol is not None else self._solution.values
         return self._values
 
+    @property
+    def indeterminate(self) -> bool:
+        """Whether the mode's rows are dependent here: statically indeterminate reactions."""
+        return (bool(self.system.layout) and self._solved() is None and self._solution is not None
+                and self.system.dependent(self._solution.Gm))
+
+    @property
+    def reported(self) -> np.ndarray:
+        """Multipliers as reported: :attr:`values`, or for dependent rows under another split
+        rule than the widest margin (``[simulation] split``) that rule's distribution."""
+        values = self.values
+        sol = self._solution
+        return sol.shown.values if sol is not None and sol.shown is not None else values
+
     def multiplier(self, row: int) -> float:
         """Multiplier of kernel row *row* (0 when it is not active)."""
         j = self.system.row_col.get(row)
         return 0.0 if j is None else float(self.values[j])
 
-    def normal(self, c: int) -> float:
-        """Normal force of contact *c* (0 when separated)."""
+    def normal(self, c: int, values: np.ndarray | None = None) -> float:
+        """Normal force of contact *c* (0 when separated); in *values* (:attr:`reported`)
+        rather than :attr:`values` when given."""
         j = self.system.normal_col.get(c)
-        return 0.0 if j is None else float(self.values[j])
+        return 0.0 if j is None else float((self.values if values is None else values)[j])
 
-    def friction(self, c: int) -> np.ndarray:
-        """Friction force of contact *c* (its slip components)."""
+    def friction(self, c: int, values: np.ndarray | None = None) -> np.ndarray:
+        """Friction force of contact *c* (its slip components); *values* as for :meth:`normal`."""
         cs = self.mode.contacts[c][1]
         if cs.state == STICK:
-            return self.values[self.system.tangent_cols[c]]
+            return (self.values if values is None else values)[self.system.tangent_cols[c]]
         if cs.state in (SLIDE, SMOOTH):
             s = self.solver.friction_shape(c, cs, self.slip(c), self.qd)
-            return -cs.sigma * self.mu(c) * self.normal(c) * s
+            return -cs.sigma * self.mu(c) * self.normal(c, values) * s
         return np.zeros(self.solver.ck.dims[c])
 
     def compliance(self, c: int) -> float:
@@ -202,9 +217,11 @@ class Motion:
         return self._obs
 
     def contact_record(self, c: int) -> tuple:
-        """``(state label, N, F, U, gap, mu_s)`` of contact *c* for a trajectory sample."""
+        """``(state label, N, F, U, gap, mu_s)`` of contact *c* for a trajectory sample (the
+        forces as reported: :attr:`reported`)."""
         at, kin = self.solver.ck.at, self.kin
-        return (self.mode.contacts[c][1].label(), self.normal(c), self.friction(c), self.slip(c),
+        shown = self.reported
+        return (self.mode.contacts[c][1].label(), self.normal(c, shown), self.friction(c, shown), self.slip(c),
                 kin[at["gap"] + c], kin[at["mu_s"] + c])
 
     def residuals(self, drift) -> tuple[float, float]:

@@ -19,6 +19,7 @@ nonholonomic row ``U_k = 0`` per slip component (multiplier = friction force com
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -91,6 +92,9 @@ class ModeSolver:
         self.laws = [c.law for c in self.ck.data]
         self.frictionless = self.ck.frictionless(params) if self.ck else frozenset()
         self.reference: dict[int, np.ndarray] = {}
+        #: how statically indeterminate reactions are reported: (rule, weights by name)
+        settings = self.model.simulation
+        self.split = (settings.split, dict(settings.split_weights))
         # one output buffer for both kernels: the Lagrange I fast path gathers from it
         self.z = np.zeros(kernel.dynamics.size + self.ck.size)
         self.kz, self.cz = self.z[:kernel.dynamics.size], self.z[kernel.dynamics.size:]
@@ -446,11 +450,22 @@ class ModeSolver:
             best = best_distribution(self, mode, layout, Bm, M @ qdd - F, cout)
             values, particular = best.values, False
             direct = {k: v for k, v in direct.items() if k in best.determinate}
+            if self.split[0] == "least-norm":
+                from .indeterminate import least_norm_distribution, row_weights
+
+                shown = least_norm_distribution(self, mode, layout, Bm, M @ qdd - F, cout,
+                                                row_weights(self, layout, self.split[1]))
+                if shown is not None:   # None: no admissible split (a switching instant)
+                    arrays = (M, F, G, gamma, B, Gm, gm, Bm)
+                    return replace(self._packed(mode, layout, qdd, values, cout, arrays, direct, particular),
+                                   shown=self._packed(mode, layout, qdd, shown, cout, arrays, direct, particular))
+        return self._packed(mode, layout, qdd, values, cout, (M, F, G, gamma, B, Gm, gm, Bm), direct, particular)
+
+    def _packed(self, mode, layout, qdd, values, cout, arrays, direct, particular) -> Solution:
         rows = [r.index for r in layout if r.kind == "constraint"]
         mults = np.array([v for r, v in zip(layout, values) if r.kind == "constraint"])
         contacts, friction = self._contact_forces(mode, layout, values, cout, qdd)
-        return Solution(qdd, rows, mults, layout, values, M, F, G, gamma, B, Gm, gm, Bm,
-                        contacts, friction, direct, particular)
+        return Solution(qdd, rows, mults, layout, values, *arrays, contacts, friction, direct, particular)
 
     def friction_power(self, mode: Mode, layout: list[RowSpec], values: np.ndarray, cout) -> float:
         """The power of the friction forces on their slips, ``sum_c F_c . U_c``: the rate of

@@ -140,9 +140,12 @@ class Solution:
     direct : dict name -> float -- the multipliers the form computes itself
     particular : bool -- the rows are dependent and ``values`` is the minimum-norm solution
         (``ModeSolver.solve(..., distribute=False)``), not the reported distribution
+    shown : Solution or None -- the same motion with the multipliers split by another rule
+        than the widest margin (``[simulation] split``); None when they are these
 
     For a mode with dependent rows (statically indeterminate reactions) ``values`` is the
-    admissible distribution with the widest margins (:mod:`nonideal.modes.indeterminate`).
+    admissible distribution with the widest margins (:mod:`nonideal.modes.indeterminate`): the
+    one the mode's consistency and its events read.  What is reported is :attr:`reported`.
     """
 
     qdd: np.ndarray
@@ -162,6 +165,13 @@ class Solution:
     friction: np.ndarray | None = None
     direct: dict[str, float] = field(default_factory=dict)
     particular: bool = False
+    shown: "Solution | None" = None
+
+    @property
+    def reported(self) -> "Solution":
+        """The motion with the multipliers of the model's split rule (itself when the
+        reactions are unique or the rule is the widest margin)."""
+        return self.shown if self.shown is not None else self
 
     def multiplier(self, row: int) -> float:
         return float(self.multipliers[self.rows.index(row)]) if row in self.rows else 0.0

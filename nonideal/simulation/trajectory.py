@@ -67,11 +67,13 @@ class Trajectory:
     -----
     Where the reactions are statically indeterminate (the rows of the mode are dependent: a
     ladder sticking at a rough wall and floor, a table's legs sticking), the multipliers and
-    contact forces are the admissible distribution with the widest margins -- the one that
-    maximizes the smallest of ``N``, ``mu_s N - |F|`` and the held multipliers among the
-    contacts whose reactions are indeterminate, and among several such the one of least norm
-    (:mod:`nonideal.modes.indeterminate`); the slip and lift-off events fire when no admissible
-    distribution is left.
+    contact forces are the admissible distribution chosen by ``[simulation] split``: by
+    default the one with the widest margins -- the one that maximizes the smallest of ``N``,
+    ``mu_s N - |F|`` and the held multipliers among the contacts whose reactions are
+    indeterminate, and among several such the one of least norm; with ``"least-norm"`` the one
+    of least compliance-weighted norm (:mod:`nonideal.modes.indeterminate`).  The slip and
+    lift-off events fire when no admissible distribution is left, whatever the rule;
+    ``diagnostics["indeterminate"]`` gives the rule and the admissible ranges per phase.
     """
 
     model: str
@@ -115,7 +117,7 @@ class Trajectory:
         M = kernel.dynamics.views(kernel.dynamics.batch(X))["M"]
         for k, m in enumerate(motions):
             if m.system.row_col:
-                values = m.values
+                values = m.reported
                 for i, j in m.system.row_col.items():
                     mult[rows[i].name][k] = values[j]
                 pos, vel = m.system.drift_rows
@@ -146,6 +148,11 @@ class Trajectory:
             energy_balance_relative=float(np.max(np.abs(balance)) / scale) if N else 0.0,
             samples=N,
         )
+        from ..modes.indeterminate import split_phases
+
+        split = split_phases(solver, motions)
+        if split:   # where the reactions are statically indeterminate: the rule, the ranges
+            diag["indeterminate"] = split
         contacts = {}
         for name, d, rec in zip(names, solver.ck.dims if names else [], records):
             label, normal, friction, slip, gap, mu_s = zip(*rec) if rec else ((),) * 6
