@@ -47,7 +47,8 @@ SECTION_KEYS = {
     "coordinates": {"q"},
     "energy": {"kinetic", "potential"},
     "gravity": {"vector"},
-    "simulation": {"t_end", "rtol", "atol", "method", "max_step", "t0", "split", "split_weights"},
+    "simulation": {"t_end", "rtol", "atol", "method", "max_step", "t0", "split", "split_weights",
+                   "singular"},
     "forms": {"independent"},
 }
 CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral", "restitution",
@@ -399,6 +400,13 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 problems.append(f"[simulation] {key}: must be a string (got {describe(sim[key])})")
     if "split_weights" in sim:
         settings["split_weights"] = _split_weights(sim["split_weights"], check, problems)
+    if "singular" in sim:
+        if sim["singular"] in ("smooth", "stop"):
+            settings["singular"] = sim["singular"]
+        else:
+            problems.append("[simulation] singular: must be \"smooth\" (go on through a singular "
+                            "configuration of the constraints on the smooth branch) or \"stop\" "
+                            f"(got {describe(sim['singular'])})")
     initial = data.get("initial", {})
     if not isinstance(initial, dict):
         problems.append("[initial]: must be a table name = value")
