@@ -23,6 +23,7 @@ reported with the contact, the state and the critical friction coefficient.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 import itertools
 import math
 
@@ -218,13 +219,14 @@ def _lifting(solver, choices: list, sf: float) -> list:
 
 
 def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
-                tol_pos: float = 1e-9, tol_vel: float = 1e-9, exclude: Mode | None = None,
+                tol_pos: float = 1e-9, tol_vel: float = 1e-9, exclude: Mode | Sequence[Mode] | None = None,
                 previous: Mode | None = None, concerned: str | None = None) -> Mode:
     """Choose held unilateral constraints and contact states at a state.
 
     *exclude* is the mode that an event has just ended (a multiplier or a friction margin
-    reached zero): at the switching point it is still (marginally) consistent, so it is
-    dropped whenever another consistent choice exists.  *previous* is the mode before the
+    reached zero), or the modes a chain of events has ended at the same instant: at the
+    switching point they are still (marginally) consistent, so they are dropped whenever
+    another consistent choice exists.  *previous* is the mode before the
     event and *concerned* the contact the event is about: among equally sticky choices with
     the same contacts touching, the one that changes the fewest other contacts is taken.
 
@@ -236,6 +238,7 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
         No consistent choice (or several) without a sliding contact involved.
     """
     kernel = solver.kernel
+    excluded = () if exclude is None else (exclude,) if isinstance(exclude, Mode) else tuple(exclude)
     sq, sv = _scales(q, qd)
     closed = []
     if solver.unilateral:
@@ -289,8 +292,8 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
             if not np.isfinite(qdd).all():
                 continue
             if _consistent(solver, motion, mode, closed, scales):
-                if exclude is not None and _same(mode, exclude):
-                    fallback = (mode, motion)
+                if any(_same(mode, e) for e in excluded):
+                    fallback = fallback or (mode, motion)
                     continue
                 consistent.append((mode, motion))
                 level = sticks if level is None else level

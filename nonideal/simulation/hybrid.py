@@ -105,6 +105,7 @@ class Simulation:
         if self.singular not in BRANCHES:
             raise ModelError(f"singular: must be one of {', '.join(BRANCHES)} (got {self.singular!r})")
         self.max_events = max_events
+        self._chain = (-np.inf, [])  # the modes events ended at one instant (all marginal there)
         self.max_samples = max_samples
         self.detect_jam = detect_jam
         k = self.kernel
@@ -188,9 +189,13 @@ class Simulation:
             new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8, previous=mode,
                               concerned=ev.name)
         else:
+            same = self._chain[1] if abs(t - self._chain[0]) <= 1e-8 * (1 + abs(t)) else []
+            self._chain = (t, same + [mode] if ev.excludes_current else same)
+            if len(self._chain[1]) > 20:
+                raise IntegrationFailed(t, mode.label(), "the mode switches at this instant do not "
+                                        f"settle: {', '.join(m.label() for m in same[-4:])}, ...")
             new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8,
-                              exclude=mode if ev.excludes_current else None, previous=mode,
-                              concerned=ev.name)
+                              exclude=self._chain[1] or None, previous=mode, concerned=ev.name)
         q, qd = self._project(new, t, q, qd)
         y[:n], y[n:2 * n] = q, qd
         record["type"] = ev.outcome(mode, new)
