@@ -98,18 +98,13 @@ class Dynamics:
                       if lv == level)
 
     def dt(self, expr, with_acceleration: bool = True):
-        """Total time derivative of an expression in (q, q', t) [and q'' if present].
-
-        With ``with_acceleration=False`` the q'' terms are dropped (the part of the
-        derivative that does not contain accelerations).
-        """
+        """Total time derivative of an expression in (q, q', t) [and q'' if present]; with
+        ``with_acceleration=False`` without the q'' terms (the acceleration-free part)."""
         expr = se.sympify(expr)
         free = expr.free_symbols
         out = se.diff(expr, self.t) if self.t in free else se.Integer(0)
-        index = self._index
         # only the symbols that occur (in coordinate order): O(size of expr), not O(n_q)
-        found = sorted(index[s] for s in free if s in index)
-        for k, level in found:
+        for k, level in sorted(self._index[s] for s in free if s in self._index):
             if level == 0:
                 out += se.diff(expr, self.q[k]) * self.qd[k]
             elif level == 1 and with_acceleration:
@@ -126,6 +121,12 @@ class Dynamics:
         many bodies (the potential), not O(n_q * size)."""
         expr = se.sympify(expr)
         syms = (self.q, self.qd, self.qdd)[level]
+        if isinstance(expr, se.Mul):  # c * (sum): c times the gradient of the sum
+            var = [i for i, f in enumerate(expr.args) if self.depends(f, level)]
+            s = expr.args[var[0]] if len(var) == 1 else None
+            if isinstance(s, se.Add) and len(s.args) > 8:
+                c = se.Mul(*[f for i, f in enumerate(expr.args) if i != var[0]])
+                return {k: c * d for k, d in self.gradient(s, level).items()}
         terms = expr.args if isinstance(expr, se.Add) else ()
         if len(terms) > 8:
             groups: dict[int, list] = {}
