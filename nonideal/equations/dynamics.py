@@ -91,8 +91,7 @@ class Dynamics:
 
     def depends(self, expr, level: int = 0) -> list[int]:
         """Sorted indices of the coordinates whose symbols of *level* (0: q, 1: q', 2: q'')
-        occur in *expr*: the only nonzero columns of its gradient (a body among many depends
-        on a few coordinates, so its Jacobian is found in O(its size), not O(n_q))."""
+        occur in *expr*: the nonzero columns of its gradient, found in O(size of expr)."""
         index = self._index
         return sorted(k for k, lv in (index.get(s, (-1, -1)) for s in se.sympify(expr).free_symbols)
                       if lv == level)
@@ -115,10 +114,9 @@ class Dynamics:
         return [[se.diff(e, v) for v in wrt] for e in exprs]
 
     def gradient(self, expr, level: int = 0) -> dict:
-        """``{k: d expr/d s_k}`` over the symbols ``s`` of *level* (0: q, 1: q', 2: q'') that
-        occur in *expr*, nonzero entries only.  A sum is differentiated term by term, each
-        coordinate only through the terms that contain it: O(size of expr) for a sum over
-        many bodies (the potential), not O(n_q * size)."""
+        """``{k: d expr/d s_k != 0}`` over the symbols ``s_k`` of *level* (0: q, 1: q', 2: q'')
+        in *expr*.  Sums term by term, each coordinate through the terms that contain it:
+        O(size of expr) for a sum over many bodies (the potential), not O(n_q * size)."""
         expr = se.sympify(expr)
         syms = (self.q, self.qd, self.qdd)[level]
         if isinstance(expr, se.Mul):  # c * (sum): c times the gradient of the sum
@@ -128,24 +126,28 @@ class Dynamics:
                 c = se.Mul(*[f for i, f in enumerate(expr.args) if i != var[0]])
                 return {k: c * d for k, d in self.gradient(s, level).items()}
         terms = expr.args if isinstance(expr, se.Add) else ()
+        parts: dict[int, list] = {}
         if len(terms) > 8:
-            groups: dict[int, list] = {}
             for term in terms:
-                for k in self.depends(term, level):
-                    groups.setdefault(k, []).append(term)
-            parts = {k: se.Add(*group) for k, group in groups.items()}
+                ks = self.depends(term, level)
+                if len(ks) > 8:  # a long term itself (c * a sum): its own gradient, recursively
+                    for k, d in self.gradient(term, level).items():
+                        parts.setdefault(k, []).append(d)
+                    continue
+                for k in ks:
+                    parts.setdefault(k, []).append((term,))
         else:
-            parts = {k: expr for k in self.depends(expr, level)}
+            parts = {k: [(expr,)] for k in self.depends(expr, level)}
         out = {}
-        for k in sorted(parts):
-            d = se.diff(parts[k], syms[k])
+        for k in sorted(parts):  # (term,): to differentiate; else a derivative already
+            d = se.diff(se.Add(*[p[0] for p in parts[k] if isinstance(p, tuple)]), syms[k]) \
+                + se.Add(*[p for p in parts[k] if not isinstance(p, tuple)])
             if d != 0:
                 out[k] = d
         return out
 
     def sparse_jacobian(self, exprs, level: int = 0) -> list[dict]:
-        """The nonzero entries of :meth:`jacobian`: :meth:`gradient` of each expression."""
-        return [self.gradient(e, level) for e in exprs]
+        return [self.gradient(e, level) for e in exprs]  # the nonzero entries of jacobian()
 
     # ------------------------------------------------------------ bodies
     def _point(self, position):
@@ -262,9 +264,8 @@ class Dynamics:
     # ------------------------------------------------------------ Lagrange operator
     @cached_property
     def _inertia(self):
-        """``({(i, j): M_ij}, [h_i])``: the nonzero entries of the mass matrix (both triangles)
-        and the velocity terms.  Each body adds only over the coordinates it depends on, so a
-        system of many bodies that each move few coordinates (block-diagonal M) costs O(n_q)."""
+        """``({(i, j): M_ij != 0}, h)``: each body adds only over the coordinates it depends
+        on, so many bodies that each move few coordinates (block-diagonal M) cost O(n_q)."""
         n = self.n
         M: dict[tuple[int, int], object] = {}
         h = [se.Integer(0)] * n
@@ -322,8 +323,7 @@ class Dynamics:
 
     @property
     def mass_entries(self) -> dict[tuple[int, int], object]:
-        """The nonzero entries ``{(i, j): M_ij}`` of the mass matrix (both triangles; the
-        compiled kernel evaluates only these: O(n_q) of them for a block-diagonal M)."""
+        """The nonzero entries ``{(i, j): M_ij}`` of M (both triangles), what is compiled."""
         return self._inertia[0]
 
     @cached_property
