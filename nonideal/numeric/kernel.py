@@ -78,31 +78,41 @@ off after roughly 10^5 evaluations -- far more than a typical simulation needs."
 _LLVM = bool(getattr(se, "have_llvm", False))
 
 
+CSE_MAX_SYMBOLS = 10_000
+"""Above this many occurrences of symbols in the compiled outputs (summed over the outputs'
+sets of free symbols) SymEngine's common-subexpression elimination is skipped: its cost grows
+faster than linearly with the size (1000 particles on springs: the 3000 forces compile in 15 s
+with it, 3.2 s without; their potential 6.7 s and 2.2 s), while the outputs of such large
+systems (many bodies, each entry of its own few coordinates) share little.  Smaller kernels --
+every model of the gallery, the 20-link pendulum -- keep it."""
+
+
 def _lambdify(inputs, exprs, optimize: bool):
-    """SymEngine Lambdify with CSE; LLVM without optimization unless *optimize*.
+    """SymEngine Lambdify with CSE (up to :data:`CSE_MAX_SYMBOLS`); LLVM without
+    optimization unless *optimize*.
 
     The inputs are renamed first: SymEngine's common-subexpression elimination names its
     temporaries ``x0, x1, ...`` and avoids only the names that occur in the expressions, so an
-    input called ``x1`` that no output uses would be overwritten.
+    input called ``x1`` that no output uses would be overwritten.  Each expression is renamed
+    through a map of its own symbols only (a map of every input costs O(inputs) per
+    expression: 6.5 s for the 3000 forces of 1000 particles on springs, O(n^2)).
     """
     safe = [se.Symbol(f"__in{i}__") for i in range(len(inputs))]
+    rename = dict(zip(inputs, safe))
     exprs = [se.sympify(e) for e in exprs]
-    if exprs:
-        # one substitution over all outputs (per expression it would rebuild the map each
-        # time), of the inputs that occur only (a map of every input costs O(inputs) per
-        # expression: 1.9 s for 4000 outputs of 6000 inputs, 0.07 s restricted)
-        column = se.DenseMatrix(len(exprs), 1, exprs)
-        used = column.free_symbols
-        rename = {s: r for s, r in zip(inputs, safe) if s in used}
-        if rename:
-            exprs = list(column.xreplace(rename))
-    inputs = safe
+    size, renamed = 0, []
+    for e in exprs:
+        free = e.free_symbols
+        size += len(free)
+        renamed.append(e.xreplace({s: rename[s] for s in free if s in rename}) if free else e)
+    exprs, inputs = renamed, safe
+    cse = size <= CSE_MAX_SYMBOLS
     if _LLVM and not optimize:
         try:
-            return se.Lambdify(inputs, exprs, cse=True, backend="llvm", opt_level=0)
+            return se.Lambdify(inputs, exprs, cse=cse, backend="llvm", opt_level=0)
         except (TypeError, ValueError, RuntimeError):  # pragma: no cover - older SymEngine
             pass
-    return se.Lambdify(inputs, exprs, cse=True)
+    return se.Lambdify(inputs, exprs, cse=cse)
 
 
 class Compiled:
@@ -314,9 +324,9 @@ class Kernel:
     -----
     ``dynamics(x)`` returns ``M (n, n)``, ``F (n,)``, ``G (m, n)``, ``gamma (m,)``, ``B (n, m)``
     for all ``m`` constraint rows of the model; the simulation selects the rows of the current
-    mode by index.  ``observables(x)`` returns ``T, T0, V``, the power of the non-potential
-    forces ``P_nc``, the explicit-time power ``P_t = dV/dt - dT/dt`` and the position/velocity
-    residuals of every row.
+    mode by index.  ``observables(x)`` returns ``T, T0, V``, ``T2 = q' M q'/2``, the power of
+    the non-potential forces ``P_nc``, the explicit-time power ``P_t = dV/dt - dT/dt`` and the
+    position/velocity residuals of every row.
     """
 
     def __init__(self, model: Model):
@@ -359,7 +369,10 @@ class Kernel:
             P_t = se.diff(dyn.V, dyn.t) - se.diff(dyn.T, dyn.t)
             pos = [r.position if r.position is not None else se.Integer(0) for r in self.rows]
             vel = [r.velocity if r.velocity is not None else se.Integer(0) for r in self.rows]
-            outputs = {"T": dyn.T, "T0": dyn.T0, "V": dyn.V, "P_nc": P_nc, "P_t": P_t}
+            # T2 = q'.M.q'/2 from the nonzero entries (a trajectory's energy without n x n
+            # matrices per sample)
+            T2 = se.Add(*[e * qd[i] * qd[j] for (i, j), e in dyn.mass_entries.items()]) / 2
+            outputs = {"T": dyn.T, "T0": dyn.T0, "T2": T2, "V": dyn.V, "P_nc": P_nc, "P_t": P_t}
             if self.rows:
                 outputs.update(pos=pos, vel=vel)
             self._obs = Compiled(self.symbols, outputs)

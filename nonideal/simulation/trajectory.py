@@ -112,7 +112,6 @@ class Trajectory:
         X[:, 0] = t
         X[:, 1:1 + 2 * n] = Y[:, :2 * n]
         obs = kernel.observables.views(kernel.observables.batch(X))
-        M = kernel.dynamics.views(kernel.dynamics.batch(X))["M"]
         for k, m in enumerate(motions):
             if m.system.row_col:
                 values = m.values
@@ -126,7 +125,7 @@ class Trajectory:
             for c, rec in enumerate(records):
                 rec.append(m.contact_record(c))
         T, V = obs["T"], obs["V"]
-        E = 0.5 * np.einsum("ki,kij,kj->k", qd, M, qd) - obs["T0"] + V
+        E = obs["T2"] - obs["T0"] + V
         works = Y[:, 2 * n:2 * n + 5] if Y.shape[1] > 2 * n else np.zeros((N, 5))
         W_nc, W_R, W_t, W_f, W_i = (works[:, k] for k in range(5))
         balance = (E - E[0]) - (W_nc + W_R + W_t + W_f + W_i) if N else np.zeros(0)
