@@ -5,8 +5,11 @@ its symbolic dynamics, deriving Lagrange I (with the printed equations), ``check
 compiles the numeric kernel and solves the motion at t0) and ``simulate`` to t_end, next to
 ``sympy.physics.mechanics``' KanesMethod on the same system (ratios ours/peer, < 1 = ours
 faster; the peer is capped at ``--kane-max`` particles, beyond which it takes over a minute).
-``--springs`` couples neighbours by springs ``k/2 |r_{i+1} - r_i - e_x|^2`` (the mass matrix
-stays diagonal, the forces couple).  ``--source DIR`` measures another checkout (e.g. an
+``--springs`` couples neighbours by springs ``k/2 (x_{i+1} - x_i - 1)^2`` (the mass matrix
+stays diagonal, the forces couple).  Times are CPU times of the measuring process
+(``time.process_time``): on a shared machine under load the wall-clock times of the same run
+are several times larger and move with the neighbours' jobs; the wall-clock total per n is
+given in a comment after each row.  ``--source DIR`` measures another checkout (e.g. an
 exported older commit, for before/after tables on the same machine).
 
     python benchmarks/bench_free_particles.py                       # n = 10, 30, 100, 300, 1000
@@ -36,8 +39,7 @@ def build(n: int, springs: bool):
     init.update({c + "'": 0.1 for c in coords})
     potential = "0"
     if springs and n > 1:
-        potential = "k/2*(" + " + ".join(f"(x{i + 1} - x{i} - 1)^2 + (y{i + 1} - y{i})^2 + (z{i + 1} - z{i})^2"
-                                         for i in range(n - 1)) + ")"
+        potential = "k/2*(" + " + ".join(f"(x{i + 1} - x{i} - 1)^2" for i in range(n - 1)) + ")"
     return Model(name="free particles", coordinates=coords, parameters={"m": 1.0, "g": 9.81, "k": 10.0},
                  bodies=[Particle(f"p{k}", "m", [f"x{k}", f"y{k}", f"z{k}"]) for k in range(n)],
                  gravity=["0", "0", "-g"], potential=potential, initial=init)
@@ -48,18 +50,18 @@ def ours(n: int, springs: bool, t_end: float) -> dict:
     from nonideal.analysis.checks import check_model
     from nonideal.equations.dynamics import dynamics_of
 
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     model = build(n, springs)
-    t1 = time.perf_counter()
+    t1 = time.process_time()
     dynamics_of(model).F
-    t2 = time.perf_counter()
+    t2 = time.process_time()
     eom = derive(model, "lagrange1")
     text = eom.as_text()
-    t3 = time.perf_counter()
+    t3 = time.process_time()
     check_model(model)
-    t4 = time.perf_counter()
+    t4 = time.process_time()
     traj = simulate(model, t_end=t_end)
-    t5 = time.perf_counter()
+    t5 = time.process_time()
     z = traj.q[-1, 2]
     z_exact = 0.1 * t_end - 9.81 * t_end ** 2 / 2   # free fall of particle 0 (no springs)
     from nonideal.numeric.kernel import kernel_of
@@ -75,7 +77,7 @@ def kane(n: int) -> float:
     import sympy as sp
     import sympy.physics.mechanics as me
 
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     N, O = me.ReferenceFrame("N"), me.Point("O")
     O.set_vel(N, 0)
     m, g = sp.symbols("m g")
@@ -90,7 +92,7 @@ def kane(n: int) -> float:
     km = me.KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=[qi.diff() - ui for qi, ui in zip(q, u)])
     km.kanes_equations(particles, loads)
     km.mass_matrix, km.forcing
-    return time.perf_counter() - t0
+    return time.process_time() - t0
 
 
 def one(args) -> None:
@@ -116,7 +118,7 @@ def main() -> None:
     args = ap.parse_args()
     if args.one is not None:
         return one(args)
-    print(f"source: {args.source}; springs: {args.springs}; t_end = {args.t_end}")
+    print(f"source: {args.source}; springs: {args.springs}; t_end = {args.t_end}; CPU seconds (process_time)")
     print("| particles | coordinates | build | dynamics | derive (+ text) | check (compiles) | simulate "
           "| compiled / outputs | KanesMethod | (dynamics + derive)/Kane |")
     print("|---|---|---|---|---|---|---|---|---|---|")

@@ -153,7 +153,8 @@ class Trajectory:
                               "slip": np.array(slip, dtype=float).reshape(N, d).tolist(),
                               "gap": np.array(gap, dtype=float), "mu_static": np.array(mu_s, dtype=float),
                               "mode": list(label)}
-        controls = _controls(kernel, mult, qd, kernel.dynamics.views(kernel.dynamics.batch(X)), t, X)
+        controls = _controls(kernel, mult, qd, kernel.dynamics.views(kernel.dynamics.batch(X)), t, X) \
+            if any(r.reaction_kind == "servo" for r in kernel.rows) else {}  # (no n x n M per sample)
         return cls(kernel.model.name, tuple(kernel.model.coordinates), t, q, qd, qdd,
                    [s.mode.label() for s in samples], mult, energy, list(events), diag, contacts,
                    controls)
