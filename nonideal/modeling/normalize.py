@@ -38,8 +38,11 @@ class Normalizer:
         differentiate abs/sign/min/max, and the motion would not be defined at the kinks)."""
         if e is None:
             return None
+        kinks = e.atoms(sp.Abs, sp.sign, sp.Min, sp.Max)
+        if not kinks:  # (the usual case: no O(n_q) set of the model's names per expression)
+            return e
         live = set(self.names(2).values()) - set(self.m.parameter_symbols)
-        rough = sorted({str(f) for f in e.atoms(sp.Abs, sp.sign, sp.Min, sp.Max) if f.free_symbols & live})
+        rough = sorted({str(f) for f in kinks if f.free_symbols & live})
         if rough:
             self.problems.append(
                 f"{where}: {', '.join(rough)} is not differentiable, and this expression is "
