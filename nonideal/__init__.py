@@ -19,7 +19,7 @@ __version__ = "0.1.0"
 _EXPORTS = {
     "Force": "modeling.bodies", "Particle": "modeling.bodies", "PlanarBody": "modeling.bodies",
     "RigidBody": "modeling.bodies", "Torque": "modeling.bodies",
-    "Contact": "modeling.contacts", "Coulomb": "modeling.contacts",
+    "Contact": "modeling.contacts", "Coulomb": "modeling.contacts", "IdealRolling": "modeling.contacts",
     "LinearizedCoulomb": "modeling.contacts", "Newton": "modeling.contacts",
     "Plastic": "modeling.contacts", "RegularizedCoulomb": "modeling.contacts",
     "EquationsOfMotion": "equations.eom",
@@ -39,7 +39,7 @@ _EXPORTS = {
 __all__ = [
     "Model", "Parameter", "Constraint", "SimulationSettings", "model_from_mechanics",
     "Particle", "PlanarBody", "RigidBody", "Force", "Torque",
-    "Contact", "Coulomb", "RegularizedCoulomb", "LinearizedCoulomb", "Plastic", "Newton",
+    "Contact", "Coulomb", "IdealRolling", "RegularizedCoulomb", "LinearizedCoulomb", "Plastic", "Newton",
     "EquationsOfMotion", "FORMS", "derive", "evaluate", "simulate", "load_model", "Simulation", "Trajectory",
     "NonidealError", "ModelError", "MechanicsError", "PainleveParadox", "IndeterminateSystem",
     "InconsistentInitialConditions", "IntegrationFailed", "SingularSystem", "FormNotApplicable",
@@ -68,8 +68,8 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
                          IntegrationFailed, MechanicsError, ModelError, NonidealError,
                          PainleveParadox, SingularSystem)
     from .modeling.bodies import Force, Particle, PlanarBody, RigidBody, Torque
-    from .modeling.contacts import (Contact, Coulomb, LinearizedCoulomb, Newton, Plastic,
-                                    RegularizedCoulomb)
+    from .modeling.contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton,
+                                    Plastic, RegularizedCoulomb)
     from .modeling.mechanics import model_from_mechanics
     from .modeling.model import Constraint, Model, Parameter, SimulationSettings
     from .modeling.modelfile import load_model

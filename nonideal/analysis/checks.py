@@ -208,6 +208,10 @@ def _coulomb_contacts(solver, t, q, qd, mode) -> dict[str, dict[str, Any]]:
         data = solver.ck.data[c]
         if not data.law.exact or c in solver.frictionless:
             continue
+        if c in solver.rolling:  # never slides: Painleve's analysis does not apply
+            out[name] = {"mu": "inf", "state_at_t0": cs.label(), "critical_mu": None,
+                         "ideal_rolling": True}
+            continue
         if cs.state == "separated":
             out[name] = {"mu": float(cout["mu"][c]), "state_at_t0": cs.label(), "critical_mu": None}
             continue
@@ -244,6 +248,14 @@ def _coulomb_contacts(solver, t, q, qd, mode) -> dict[str, dict[str, Any]]:
 def _with_friction(determinacy: str, friction: dict[str, dict[str, Any]]) -> str:
     """The determinacy line, with what the Coulomb contacts make of it (the numbers are on
     the contacts' lines)."""
+    rolling = [n for n, e in friction.items() if e.get("ideal_rolling")]
+    if rolling:
+        determinacy += (f"; contact(s) {', '.join(rolling)} roll ideally (mu = inf): an ideal "
+                        "nonholonomic constraint while the gap is closed, released with it -- "
+                        "friction unbounded, no sliding, no Painleve paradox")
+        friction = {n: e for n, e in friction.items() if not e.get("ideal_rolling")}
+        if not friction:
+            return determinacy
     head = determinacy.replace("all constraints ideal: the motion is determinate",
                                "all constraints ideal")
     above = [n for n, e in friction.items() if e.get("critical_mu") is not None and e["mu"] >= e["critical_mu"]]
@@ -262,6 +274,10 @@ def friction_text(entry: dict[str, Any]) -> str:
     """What ``check`` says of one Coulomb contact's friction at t0."""
     if "mu" not in entry:
         return ""
+    if entry.get("ideal_rolling"):
+        return ("; ideal rolling: friction unbounded (mu = inf), so no critical mu (Painleve's "
+                "analysis skipped: the contact never slides; it rolls while the gap is closed and "
+                "lifts off when N reaches 0)")
     if entry.get("state_at_t0") == "separated":
         return f"; mu = {entry['mu']:.6g}, separated at t0"
     mu_c = entry.get("critical_mu")

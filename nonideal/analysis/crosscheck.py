@@ -15,6 +15,7 @@ from ..numeric.consistency import complete_state, random_admissible_states
 from ..errors import FormNotApplicable
 from ..equations.formalisms import FORMS
 from ..equations.high_order import extended
+from ..modeling.contacts import IdealRolling
 from ..modeling.model import Model
 from ..modes.types import SLIDE, SMOOTH, STICK, ContactState, Mode
 from ..modes.solver import ModeSolver
@@ -58,7 +59,7 @@ def _contact_mode(solver: ModeSolver, t, q, qd, held, contact_state: str) -> Mod
         if c in solver.frictionless:
             states.append((name, ContactState(SMOOTH)))
             continue
-        if contact_state == "stick":
+        if contact_state == "stick" or c in solver.rolling:  # ideal rolling never slides
             states.append((name, ContactState(STICK)))
             continue
         U = solver.ck.slip(cout, c)
@@ -97,8 +98,11 @@ def compare_forms(model: Model, forms=None, count: int = 20, seed: int = 0,
     rows = [i for i, r in enumerate(kernel.rows) if not r.unilateral or r.name in held]
     nc = len(kernel.rows) + len(model.contacts)
     rows += list(range(len(kernel.rows), nc))
-    if contact_state == "stick":   # sticking contacts: their slip velocities vanish too
-        rows += list(range(nc, nc + sum(len(c.slip) for c in model.contacts)))
+    offset = nc
+    for c in model.contacts:  # sticking contacts (and ideally rolling ones): their slips vanish too
+        if contact_state == "stick" or isinstance(c.friction, IdealRolling):
+            rows += list(range(offset, offset + len(c.slip)))
+        offset += len(c.slip)
     states = random_admissible_states(kernel, q0, qd0, params, count, seed=seed, spread=spread,
                                       t0=model.t0, rows=rows)
     ref = ModeSolver(kernel, params, "lagrange1")

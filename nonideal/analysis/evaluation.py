@@ -99,7 +99,11 @@ class Evaluation:
                 c = self.contacts[name]
                 lines.append(f"  contact {name}: {c['mode']}, N = {number(c['normal'], None, 10, True)}, "
                              f"F = {_fmt(c['friction'])}, slip = {_fmt(c['slip'])}, gap = {c['gap']:.3g}")
-                if "margin" in c:
+                if c.get("ideal_rolling") and "friction_needed" in c:
+                    lines.append(f"    rolling ideally (mu = inf): friction {c['friction_needed']:.8g}, "
+                                 "unbounded (an ideal nonholonomic constraint while the gap is "
+                                 "closed; it ends only when N reaches 0)")
+                elif "margin" in c:
                     lines.append(f"    sticking: friction needed {c['friction_needed']:.8g} of "
                                  f"mu_s N = {c['friction_available']:.8g} (margin {c['margin']:.6g})")
             else:
@@ -343,7 +347,12 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
         info["mu"] = cf.mu
         info["mu_static"] = cf.mu_s
         info["slip_acceleration"] = [float(v) for v in cf.Udot]
-        if cs.state == "stick":
+        if c in solver.rolling:  # ideal rolling: an ideal nonholonomic constraint, no limit
+            info["mu"] = info["mu_static"] = "inf"
+            info["ideal_rolling"] = True
+            if cs.state == "stick":
+                info["friction_needed"] = float(np.sqrt(cf.F @ cf.F))
+        elif cs.state == "stick":
             need = float(np.sqrt(cf.F @ cf.F))
             info["friction_needed"] = need
             info["friction_available"] = float(cf.mu_s * abs(cf.N))

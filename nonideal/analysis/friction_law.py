@@ -34,6 +34,7 @@ import sympy as sp
 from ..equations.dynamics import Dynamics, dynamics_of
 from ..equations.formalisms.base import reduce_velocities
 from ..errors import FormNotApplicable, did_you_mean
+from ..modeling.contacts import IdealRolling
 from ..modeling.model import Constraint, Model, Parameter
 from ..modeling.symbols import latex_names, to_sp
 
@@ -269,11 +270,21 @@ def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = 
         if st == "separated":
             notes.append(f"contact '{name}': separated (no force)")
             continue
+        rolling = isinstance(dyn.contacts[c].law, IdealRolling)
+        if st == "stick" and rolling:
+            rows += dyn.contact_rows(c, "stick")
+            notes.append(f"contact '{name}': rolling ideally (mu = inf) -- an ideal nonholonomic "
+                         "constraint (its slip rows, multipliers = the friction force, unbounded) "
+                         "with the unilateral gap (multiplier = N >= 0; released when N reaches 0)")
+            continue
         if st == "stick":
             rows += dyn.contact_rows(c, "stick")
             notes.append(f"contact '{name}': sticking (the multipliers of its slip rows are the "
                          "friction force)")
             continue
+        if rolling:
+            raise FormNotApplicable(f"--contact {name}: '{st}' is not a state of an ideally rolling "
+                                    "contact (mu = inf: it never slides); use stick or separated")
         if st == "smooth" and dyn.contacts[c].law.exact:   # the state of a frictionless contact
             rows += dyn.contact_rows(c, "slide", 1, [se.Integer(0)] * d)
             notes.append(f"contact '{name}': touching without friction (smooth)")

@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from ..numeric.consistency import complete_state
-from ..modeling.contacts import Coulomb, LinearizedCoulomb, RegularizedCoulomb
+from ..modeling.contacts import Coulomb, IdealRolling, LinearizedCoulomb, RegularizedCoulomb
 from ..errors import ModelError, did_you_mean
 from ..modeling.model import Model
 from ..modes.types import SEPARATED, SMOOTH, STICK, ContactState, Mode
@@ -51,6 +51,7 @@ class ContactRealizability:
     realizable: bool
     note: str = ""
     slip: np.ndarray | None = None   # U at the state: nonzero when the contact slides there
+    ideal_rolling: bool = False      # mu = inf: f0 unbounded, any rolling is realized while N >= 0
 
     @property
     def sticking(self) -> bool:
@@ -58,15 +59,21 @@ class ContactRealizability:
         return self.slip is None or not np.any(self.slip)
 
     def to_dict(self) -> dict[str, Any]:
-        return {"contact": self.name, "components": self.components, "sticking": self.sticking,
-                "slip": [float(v) for v in self.slip] if self.slip is not None else None,
-                "friction_needed": [float(v) for v in self.needed],
-                "friction_needed_magnitude": float(np.linalg.norm(self.needed)),
-                "normal": self.normal, "mu_static": self.mu_static,
-                "friction_available": self.available, "margin": self.margin,
-                "ratio": self.ratio, "realizable": self.realizable,
-                "condition": ("|f*| < f0" if self.components == 1 else "f1*^2 + f2*^2 < f0^2"),
-                "note": self.note}
+        def value(v: float):  # JSON has no infinity: an unbounded value is written "inf"
+            return "inf" if v == float("inf") else v
+
+        out = {"contact": self.name, "components": self.components, "sticking": self.sticking,
+               "slip": [float(v) for v in self.slip] if self.slip is not None else None,
+               "friction_needed": [float(v) for v in self.needed],
+               "friction_needed_magnitude": float(np.linalg.norm(self.needed)),
+               "normal": self.normal, "mu_static": value(self.mu_static),
+               "friction_available": value(self.available), "margin": value(self.margin),
+               "ratio": self.ratio, "realizable": self.realizable,
+               "condition": ("|f*| < f0" if self.components == 1 else "f1*^2 + f2*^2 < f0^2"),
+               "note": self.note}
+        if self.ideal_rolling:
+            out["ideal_rolling"] = True
+        return out
 
 
 @dataclass
@@ -96,6 +103,14 @@ class RealizabilityReport:
                  f"(Kalinin & Novozhilov) at t = {self.t:g}"]
         for c in self.contacts.values():
             cond = "|f*| < f0" if c.components == 1 else "f1*^2 + f2*^2 < f0^2"
+            if c.ideal_rolling:
+                lines.append(f"  {c.name}: needed friction f* = {_numbers(c.needed)} "
+                             f"(|f*| = {np.linalg.norm(c.needed):.8g}), normal N = {c.normal:.8g}; "
+                             "ideal rolling (mu = inf): f0 unbounded")
+                lines.append(f"    {cond}: {'yes' if c.realizable else 'NO'} -- an infinite mu "
+                             "realizes any rolling while N >= 0; only lift-off (N reaching 0) ends it"
+                             + (f"  ({c.note})" if c.note else ""))
+                continue
             lines.append(
                 f"  {c.name}: needed friction f* = {_numbers(c.needed)} "
                 f"(|f*| = {np.linalg.norm(c.needed):.8g}), normal N = {c.normal:.8g}, "
@@ -178,10 +193,16 @@ def _assess(solver, sol, mode, t=None, q=None, qd=None) -> dict[str, ContactReal
         note = ""
         if not bil and cf.N < 0:
             note = "the normal force is negative: the contact would separate"
-        ratio = need / available if available > 0 else float("inf")
-        ok = need < available and (bil or cf.N >= 0)
-        out[name] = ContactRealizability(name, len(cf.F), cf.F.copy(), float(cf.N), cf.mu_s, available,
-                                         available - need, ratio, bool(ok), note, slips.get(name))
+        rolling = c in solver.rolling
+        if rolling:  # mu = inf: every friction force is available while N >= 0
+            available = float("inf")
+            ratio = 0.0
+            ok = bil or cf.N >= 0
+        else:
+            ratio = need / available if available > 0 else float("inf")
+            ok = need < available and (bil or cf.N >= 0)
+        out[name] = ContactRealizability(name, len(cf.F), cf.F.copy(), float(cf.N), float(cf.mu_s), available,
+                                         available - need, ratio, bool(ok), note, slips.get(name), rolling)
     return out
 
 
@@ -227,7 +248,9 @@ def realizability_along(model: Model, t_end: float | None = None, samples: int =
 
     The hybrid simulation starts with the touching contacts sticking and stops at the first
     slip or lift-off event, whose time is located exactly (root of the margin
-    ``mu_s N - |F*|``, or of ``N``).  Until then the motion is the nonholonomic one.
+    ``mu_s N - |F*|``, or of ``N``).  Until then the motion is the nonholonomic one.  The margin
+    of an ideally rolling contact (``mu = inf``) is its normal force ``N``: only lift-off
+    ends rolling there.
     """
     from ..simulation.hybrid import Simulation
 
@@ -241,6 +264,9 @@ def realizability_along(model: Model, t_end: float | None = None, samples: int =
     margins = {}
     for c, (name, rec) in enumerate(traj.contacts.items()):
         if c in sim.solver.frictionless:
+            continue
+        if c in sim.solver.rolling:  # ideal rolling: only the normal force can end it
+            margins[name] = np.array(rec["normal"], dtype=float)
             continue
         F = np.array(rec["friction"], dtype=float)
         margins[name] = np.array(rec["mu_static"]) * np.abs(rec["normal"]) - np.linalg.norm(F, axis=1)
@@ -264,13 +290,17 @@ def realizability_along(model: Model, t_end: float | None = None, samples: int =
 def regularized(model: Model, eps: float, law: str = "linearized") -> Model:
     """The model with every Coulomb contact replaced by the epsilon-linear law of Kalinin & Novozhilov
     (``law="linearized"``: ``F = -mu N U/eps`` for ``|U| <= eps``) or the smooth law
-    (``law="smooth"``: ``F = -mu N U/sqrt(|U|^2 + eps^2)``)."""
+    (``law="smooth"``: ``F = -mu N U/sqrt(|U|^2 + eps^2)``).  An ideally rolling contact
+    (``mu = inf``) is kept as it is."""
     cls = {"linearized": LinearizedCoulomb, "smooth": RegularizedCoulomb}.get(law)
     if cls is None:
         raise ModelError(f"regularized: law must be 'linearized' or 'smooth' (got {law!r})")
     contacts = []
     for c in model.contacts:
         fr = c.friction
+        if isinstance(fr, IdealRolling):  # mu = inf has no regularization: it keeps rolling
+            contacts.append(c)
+            continue
         mu = fr.mu if isinstance(fr, Coulomb) else fr.mu
         contacts.append(replace(c, friction=cls(mu, eps)))
     return model.replace(contacts=tuple(contacts), name=f"{model.name} (regularized, eps = {eps:g})")

@@ -115,7 +115,9 @@ def run(args) -> int:
         shown = traj.events if len(traj.events) <= 24 else traj.events[:20]
         for e in shown:
             zeno = (f" (accumulation of impacts, geometric ratio {e['ratio']:.6g}, after "
-                    f"{e['impacts']} impacts: the rest of the series skipped)") if e["type"] == "zeno" else ""
+                    f"{e['impacts']} impacts: the rest of the series skipped)") if e["type"] == "zeno" else \
+                (f" (singular constraints: multipliers unbounded; continued on the {e['branch']} branch "
+                 f"over t = {e['interval'][0]:.6g} .. {e['interval'][1]:.6g})") if e["type"] == "singular" else ""
             print(f"  event at t = {e['t']:.12g}: {e['type']} {e.get('constraint', e.get('contact', ''))}"
                   f" -> mode [{e.get('mode', '')}]{zeno}")
         if len(shown) < len(traj.events):

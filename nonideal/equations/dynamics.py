@@ -27,7 +27,7 @@ from functools import cached_property
 import symengine as se
 
 from ..modeling.bodies import Force, PlanarBody, RigidBody, Torque
-from .servo import directions_dependent, least_cost_direction, reach, root_row, shared_directions
+from .servo import control_rows, directions_dependent, reach, root_row, shared_rows
 from ..errors import ModelError, SingularSystem
 from ..modeling.model import Constraint, Model
 from ..modeling.symbols import to_se
@@ -81,31 +81,81 @@ class Dynamics:
         self.n = model.n_q
 
     # ------------------------------------------------------------ derivatives
-    def dt(self, expr, with_acceleration: bool = True):
-        """Total time derivative of an expression in (q, q', t) [and q'' if present].
+    @cached_property
+    def _index(self) -> dict:
+        """``{symbol: (coordinate index, level)}``, level 0 for q, 1 for q', 2 for q''."""
+        out = {}
+        for level, syms in enumerate((self.q, self.qd, self.qdd)):
+            out.update({s: (k, level) for k, s in enumerate(syms)})
+        return out
 
-        With ``with_acceleration=False`` the q'' terms are dropped (the part of the
-        derivative that does not contain accelerations).
-        """
+    def depends(self, expr, level: int = 0) -> list[int]:
+        """Sorted indices of the coordinates whose symbols of *level* (0: q, 1: q', 2: q'')
+        occur in *expr*: the nonzero columns of its gradient, found in O(size of expr)."""
+        index = self._index
+        return sorted(k for k, lv in (index.get(s, (-1, -1)) for s in se.sympify(expr).free_symbols)
+                      if lv == level)
+
+    def dt(self, expr, with_acceleration: bool = True):
+        """Total time derivative of an expression in (q, q', t) [and q'' if present]; with
+        ``with_acceleration=False`` without the q'' terms (the acceleration-free part)."""
         expr = se.sympify(expr)
         free = expr.free_symbols
         out = se.diff(expr, self.t) if self.t in free else se.Integer(0)
-        for qk, vk, ak in zip(self.q, self.qd, self.qdd):
-            if qk in free:
-                out += se.diff(expr, qk) * vk
-            if with_acceleration and vk in free:
-                out += se.diff(expr, vk) * ak
+        # only the symbols that occur (in coordinate order): O(size of expr), not O(n_q)
+        for k, level in sorted(self._index[s] for s in free if s in self._index):
+            if level == 0:
+                out += se.diff(expr, self.q[k]) * self.qd[k]
+            elif level == 1 and with_acceleration:
+                out += se.diff(expr, self.qd[k]) * self.qdd[k]
         return out
 
     def jacobian(self, exprs, wrt):
         return [[se.diff(e, v) for v in wrt] for e in exprs]
 
+    def gradient(self, expr, level: int = 0) -> dict:
+        """``{k: d expr/d s_k != 0}`` over the symbols ``s_k`` of *level* (0: q, 1: q', 2: q'')
+        in *expr*.  Sums term by term, each coordinate through the terms that contain it:
+        O(size of expr) for a sum over many bodies (the potential), not O(n_q * size)."""
+        expr = se.sympify(expr)
+        syms = (self.q, self.qd, self.qdd)[level]
+        if isinstance(expr, se.Mul):  # c * (sum): c times the gradient of the sum
+            var = [i for i, f in enumerate(expr.args) if self.depends(f, level)]
+            s = expr.args[var[0]] if len(var) == 1 else None
+            if isinstance(s, se.Add) and len(s.args) > 8:
+                c = se.Mul(*[f for i, f in enumerate(expr.args) if i != var[0]])
+                return {k: c * d for k, d in self.gradient(s, level).items()}
+        terms = expr.args if isinstance(expr, se.Add) else ()
+        parts: dict[int, list] = {}
+        if len(terms) > 8:
+            for term in terms:
+                ks = self.depends(term, level)
+                if len(ks) > 8:  # a long term itself (c * a sum): its own gradient, recursively
+                    for k, d in self.gradient(term, level).items():
+                        parts.setdefault(k, []).append(d)
+                    continue
+                for k in ks:
+                    parts.setdefault(k, []).append((term,))
+        else:
+            parts = {k: [(expr,)] for k in self.depends(expr, level)}
+        out = {}
+        for k in sorted(parts):  # (term,): to differentiate; else a derivative already
+            d = se.diff(se.Add(*[p[0] for p in parts[k] if isinstance(p, tuple)]), syms[k]) \
+                + se.Add(*[p for p in parts[k] if not isinstance(p, tuple)])
+            if d != 0:
+                out[k] = d
+        return out
+
+    def sparse_jacobian(self, exprs, level: int = 0) -> list[dict]:
+        return [self.gradient(e, level) for e in exprs]  # the nonzero entries of jacobian()
+
     # ------------------------------------------------------------ bodies
     def _point(self, position):
-        """Jacobian J, velocity v, and acceleration a = J q'' + a0 of a point r(q, t)."""
+        """Jacobian J (rows ``{k: dr_i/dq_k}``, nonzero entries only), velocity v, and
+        acceleration a = J q'' + a0 of a point r(q, t)."""
         r = [to_se(c) for c in position]
-        J = self.jacobian(r, self.q)
-        v = [sum((J[i][k] * self.qd[k] for k in range(self.n)), se.Integer(0)) + se.diff(r[i], self.t)
+        J = self.sparse_jacobian(r)
+        v = [sum((d * self.qd[k] for k, d in J[i].items()), se.Integer(0)) + se.diff(r[i], self.t)
              for i in range(len(r))]
         a0 = [self.dt(vi, with_acceleration=False) for vi in v]
         return r, J, v, a0
@@ -118,7 +168,7 @@ class Dynamics:
         def w(i, j):
             return sum((R[k][i] * Rdot[k][j] for k in range(3)), se.Integer(0))
         omega = [se.expand(w(2, 1)), se.expand(w(0, 2)), se.expand(w(1, 0))]
-        Jw = self.jacobian(omega, self.qd)
+        Jw = self.sparse_jacobian(omega, level=1)
         dom0 = [self.dt(o, with_acceleration=False) for o in omega]
         return R, omega, Jw, dom0
 
@@ -131,8 +181,8 @@ class Dynamics:
             item = {"body": b, "m": to_se(b.mass), "r": r, "J": J, "v": v, "a0": a0}
             if isinstance(b, PlanarBody):
                 phi = to_se(b.angle)
-                Jp = [se.diff(phi, qk) for qk in self.q]
-                omega = sum((Jp[k] * self.qd[k] for k in range(self.n)), se.Integer(0)) + se.diff(phi, self.t)
+                Jp = self.sparse_jacobian([phi])[0]
+                omega = sum((d * self.qd[k] for k, d in Jp.items()), se.Integer(0)) + se.diff(phi, self.t)
                 item.update(I=to_se(b.inertia), phi=phi, Jp=Jp, omega=omega,
                             eps0=self.dt(omega, with_acceleration=False))
             elif isinstance(b, RigidBody):
@@ -176,30 +226,35 @@ class Dynamics:
     @cached_property
     def Q_nc(self):
         """Non-potential generalized forces: declared ones plus loads by virtual work."""
-        Q = [to_se(f) for f in self.model.forces]
+        zero = se.Integer(0)
+        Q = [to_se(f) if f != 0 else zero for f in self.model.forces]
         bodies = {it["body"].name: it for it in self._bodies}
         for ld in self.model.loads:
             if isinstance(ld, Force):
                 r = [to_se(c) for c in ld.point]
                 F = [to_se(c) for c in ld.force]
-                for k, qk in enumerate(self.q):
-                    Q[k] += sum((Fi * se.diff(ri, qk) for Fi, ri in zip(F, r)), se.Integer(0))
+                for k in self.depends(se.Matrix(r)):
+                    Q[k] += sum((Fi * se.diff(ri, self.q[k]) for Fi, ri in zip(F, r)), se.Integer(0))
             elif isinstance(ld, Torque) and ld.body is None:
                 tau, phi = to_se(ld.torque), to_se(ld.angle)
-                for k, qk in enumerate(self.q):
-                    Q[k] += tau * se.diff(phi, qk)
+                for k in self.depends(phi):
+                    Q[k] += tau * se.diff(phi, self.q[k])
             elif isinstance(ld, Torque):
                 it = bodies[ld.body]
                 tau = [to_se(c) for c in ld.torque]
                 R, Jw = it["R"], it["Jw"]
-                for k in range(self.n):
-                    w_world = [sum((R[i][j] * Jw[j][k] for j in range(3)), se.Integer(0)) for i in range(3)]
+                for k in sorted(set().union(*Jw)):
+                    w_world = [sum((R[i][j] * Jw[j][k] for j in range(3) if k in Jw[j]), se.Integer(0))
+                               for i in range(3)]
                     Q[k] += sum((tau[i] * w_world[i] for i in range(3)), se.Integer(0))
         return Q
 
     @cached_property
     def dV(self):
-        return [se.diff(self.V, qk) for qk in self.q]
+        out = [se.Integer(0)] * self.n
+        for k, d in self.gradient(self.V).items():
+            out[k] = d
+        return out
 
     @cached_property
     def Q(self):
@@ -209,68 +264,75 @@ class Dynamics:
     # ------------------------------------------------------------ Lagrange operator
     @cached_property
     def _inertia(self):
+        """``({(i, j): M_ij != 0}, h)``: each body adds only over the coordinates it depends
+        on, so many bodies that each move few coordinates (block-diagonal M) cost O(n_q)."""
         n = self.n
-        M = [[se.Integer(0)] * n for _ in range(n)]
+        M: dict[tuple[int, int], object] = {}
         h = [se.Integer(0)] * n
+
+        def add(i, j, value):
+            if value == 0:
+                return
+            M[i, j] = M[i, j] + value if (i, j) in M else value
+            if j != i:
+                M[j, i] = M[i, j]
+
         T = to_se(self.model.kinetic)
         if T != 0:
-            p = [se.diff(T, v) for v in self.qd]
+            p = [se.Integer(0)] * n
+            for i, d in self.gradient(T, 1).items():
+                p[i] = d
+            dTq = self.gradient(T)
             for i in range(n):
-                present = p[i].free_symbols
-                for j in range(i, n):
-                    if self.qd[j] in present:
-                        M[i][j] = se.diff(p[i], self.qd[j])
-                        M[j][i] = M[i][j]
-                h[i] = self.dt(p[i], with_acceleration=False) - se.diff(T, self.q[i])
+                for j, d in self.gradient(p[i], 1).items():
+                    if j >= i:
+                        add(i, j, d)
+                h[i] = self.dt(p[i], with_acceleration=False) - dTq.get(i, se.Integer(0))
                 if any(a in h[i].free_symbols for a in self.qdd):  # pragma: no cover
                     raise SingularSystem("kinetic energy contains accelerations")
         for it in self._bodies:
             m, J, a0 = it["m"], it["J"], it["a0"]
-            dim = len(J)
             # only the coordinates the body's position depends on contribute (a body among many:
             # its few nonzero columns, not all n^2 pairs)
-            moving = [i for i in range(n) if any(J[d][i] != 0 for d in range(dim))]
+            moving = sorted(set().union(*J))
             for a, i in enumerate(moving):
                 for j in moving[a:]:
-                    s = sum((J[d][i] * J[d][j] for d in range(dim)), se.Integer(0))
-                    if s != 0:
-                        M[i][j] += m * s
-                        if j != i:
-                            M[j][i] = M[i][j]
-                h[i] += m * sum((J[d][i] * a0[d] for d in range(dim)), se.Integer(0))
+                    add(i, j, m * sum((Jd[i] * Jd[j] for Jd in J if i in Jd and j in Jd), se.Integer(0)))
+                h[i] += m * sum((Jd[i] * a0[d] for d, Jd in enumerate(J) if i in Jd), se.Integer(0))
             b = it["body"]
             if isinstance(b, PlanarBody):
                 I, Jp, eps0 = it["I"], it["Jp"], it["eps0"]
-                for i in range(n):
-                    if Jp[i] == 0:
-                        continue
-                    for j in range(i, n):
-                        if Jp[j] != 0:
-                            M[i][j] += I * Jp[i] * Jp[j]
-                            if j != i:
-                                M[j][i] = M[i][j]
+                turning = sorted(Jp)
+                for a, i in enumerate(turning):
+                    for j in turning[a:]:
+                        add(i, j, I * Jp[i] * Jp[j])
                     h[i] += I * Jp[i] * eps0
             elif isinstance(b, RigidBody):
                 I, Jw, Om, dOm0 = it["I"], it["Jw"], it["Omega"], it["dOmega0"]
                 IOm = [sum((I[r][c] * Om[c] for c in range(3)), se.Integer(0)) for r in range(3)]
                 gyro = _cross(Om, IOm)
                 eul = [sum((I[r][c] * dOm0[c] for c in range(3)), se.Integer(0)) + gyro[r] for r in range(3)]
-                turning = [i for i in range(n) if any(Jw[c][i] != 0 for c in range(3))]
+                turning = sorted(set().union(*Jw))
                 for a, i in enumerate(turning):
-                    IJ = [sum((I[r][c] * Jw[c][i] for c in range(3)), se.Integer(0)) for r in range(3)]
+                    IJ = [sum((I[r][c] * Jw[c][i] for c in range(3) if i in Jw[c]), se.Integer(0))
+                          for r in range(3)]
                     for j in turning[a:]:
-                        s = sum((Jw[r][j] * IJ[r] for r in range(3)), se.Integer(0))
-                        if s != 0:
-                            M[i][j] += s
-                            if j != i:
-                                M[j][i] = M[i][j]
-                    h[i] += sum((Jw[r][i] * eul[r] for r in range(3)), se.Integer(0))
-        return se.Matrix(M), se.Matrix(h)
+                        add(i, j, sum((Jw[r][j] * IJ[r] for r in range(3) if j in Jw[r]), se.Integer(0)))
+                    h[i] += sum((Jw[r][i] * eul[r] for r in range(3) if i in Jw[r]), se.Integer(0))
+        return M, se.Matrix(h)
 
     @property
-    def M(self) -> se.DenseMatrix:
-        """Mass matrix, shape (n_q, n_q)."""
+    def mass_entries(self) -> dict[tuple[int, int], object]:
+        """The nonzero entries ``{(i, j): M_ij}`` of M (both triangles), what is compiled."""
         return self._inertia[0]
+
+    @cached_property
+    def M(self) -> se.DenseMatrix:
+        """Mass matrix, shape (n_q, n_q) (dense; see :attr:`mass_entries`)."""
+        M = se.zeros(self.n, self.n)
+        for (i, j), value in self._inertia[0].items():
+            M[i, j] = value
+        return M
 
     @property
     def h(self) -> se.DenseMatrix:
@@ -297,15 +359,15 @@ class Dynamics:
                 S += self.qdd[i] * (acc_free + (Li - acc_free) / 2)
         for it in self._bodies:
             m, J, a0 = it["m"], it["J"], it["a0"]
-            a = [sum((J[d][k] * self.qdd[k] for k in range(n)), se.Integer(0)) + a0[d] for d in range(len(J))]
+            a = [sum((d * self.qdd[k] for k, d in J[i].items()), se.Integer(0)) + a0[i] for i in range(len(J))]
             S += m * sum((ai * ai for ai in a), se.Integer(0)) / 2
             b = it["body"]
             if isinstance(b, PlanarBody):
-                eps = sum((it["Jp"][k] * self.qdd[k] for k in range(n)), se.Integer(0)) + it["eps0"]
+                eps = sum((d * self.qdd[k] for k, d in it["Jp"].items()), se.Integer(0)) + it["eps0"]
                 S += it["I"] * eps * eps / 2
             elif isinstance(b, RigidBody):
                 I, Jw, Om, dOm0 = it["I"], it["Jw"], it["Omega"], it["dOmega0"]
-                eps = [sum((Jw[r][k] * self.qdd[k] for k in range(n)), se.Integer(0)) + dOm0[r] for r in range(3)]
+                eps = [sum((d * self.qdd[k] for k, d in Jw[r].items()), se.Integer(0)) + dOm0[r] for r in range(3)]
                 Ieps = [sum((I[r][c] * eps[c] for c in range(3)), se.Integer(0)) for r in range(3)]
                 IOm = [sum((I[r][c] * Om[c] for c in range(3)), se.Integer(0)) for r in range(3)]
                 gyro = _cross(Om, IOm)
@@ -340,48 +402,14 @@ class Dynamics:
     @cached_property
     def control_rows(self) -> dict:
         """``{name: (row, coefficients)}`` for every servo-constraint with several control
-        directions (Béghin's r < j): its row realized by the least-cost combination of them
-        (``least_cost_direction``) and ``u_k = coefficients[k] * multiplier``."""
-        out = {}
-        for c in self.model.constraints:
-            if c.controls is None:
-                continue
-            base = self._row(c)
-            others = [self._row(o) for o in self.model.constraints
-                      if o.name != c.name and o.root is None and o.controls is None and not o.unilateral]
-            cols = [[to_se(x) for x in col] for col in c.controls]
-            cost = [[to_se(x) for x in r] for r in c.cost] if c.cost is not None else None
-            B, coef = least_cost_direction(self, base, others, cols, cost)
-            out[c.name] = (ConstraintRow(c.name, base.G, base.gamma, B, base.position, base.velocity,
-                                         base.order, base.unilateral, "servo"), coef)
-        return out
+        directions (Béghin's r < j; :func:`~nonideal.equations.servo.control_rows`)."""
+        return control_rows(self, self._row, ConstraintRow)
 
     @cached_property
     def shared_rows(self) -> tuple:
-        """``(names, rows, C)`` of the programs realized by the model's shared controls
-        (``[[controls]]``): each program's row along its least-cost direction and the j x r
-        matrix ``C`` with ``u = C mu`` (Béghin 1922: r programs, j controls; r > j is impossible
-        and raised here, naming the programs)."""
-        programs = [c for c in self.model.constraints if c.shared]
-        if not programs:
-            return [], [], None
-        controls = self.model.controls
-        if len(programs) > len(controls):
-            from ..errors import MechanicsError
-            raise MechanicsError(
-                f"{len(programs)} programs ({', '.join(repr(c.name) for c in programs)}) but only "
-                f"{len(controls)} shared control(s) ({', '.join(u.name for u in controls)}): with "
-                "more programs than controls the problem is impossible (Béghin 1922: r > j); add "
-                "controls or drop programs", details={"programs": [c.name for c in programs],
-                                                      "r": len(programs), "j": len(controls)})
-        others = [self._row(o) for o in self.model.constraints
-                  if not o.shared and o.root is None and o.controls is None and not o.unilateral]
-        base = [self._row(c) for c in programs]
-        cols = [[to_se(x) for x in u.direction] for u in controls]
-        B, C = shared_directions(self, base, others, cols, [to_se(u.weight) for u in controls])
-        rows = [ConstraintRow(r.name, r.G, r.gamma, b, r.position, r.velocity, r.order, False, "servo")
-                for r, b in zip(base, B)]
-        return [c.name for c in programs], rows, C
+        """``(names, rows, C)`` of the programs realized by the shared controls (``[[controls]]``;
+        :func:`~nonideal.equations.servo.shared_rows`)."""
+        return shared_rows(self, self._row, ConstraintRow)
 
     @cached_property
     def root_rows(self) -> dict:
@@ -446,11 +474,9 @@ class Dynamics:
 
     def _row(self, c: Constraint) -> ConstraintRow:
         if c.order == 3:
-            raise ModelError(
-                f"constraint '{c.name}' is of third order: the force that realizes it is part of the "
-                "state, and this analysis works with states (q, q') only; simulate, check, evaluate "
-                "and derive handle it (through the model extended by the force's impulse, "
-                "nonideal.equations.high_order.extended)", _source(self.model))
+            raise ModelError(f"constraint '{c.name}' is of third order: the force that realizes it is part of "
+                             "the state, and this analysis works with states (q, q') only; simulate, check, "
+                             "evaluate and derive handle it", _source(self.model))
         expr = to_se(c.expr)
         if c.order == 0:
             G = [se.diff(expr, qk) for qk in self.q]
@@ -483,7 +509,6 @@ class Dynamics:
     def rows(self, names=None) -> list[ConstraintRow]:
         """Constraint rows in model order, restricted to *names* if given."""
         return [self._rows[c.name] for c in self.model.constraints if names is None or c.name in names]
-
 
     # ------------------------------------------------------------ contacts
     @cached_property

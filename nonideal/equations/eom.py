@@ -73,6 +73,12 @@ class EquationsOfMotion:
         Coordinates whose accelerations are the unknowns (reduced forms) -- or all.
     notes : tuple of str
         Remarks printed with the equations (eliminations, branch choices, misprints).
+    structure_ : dict
+        Known nonzero pattern of a matrix, ``{"A_": {i: [j, ...]}}`` (the columns of row ``i``
+        that may be nonzero; a row not listed is empty), from a form that knows it (Lagrange
+        I: the mass matrix of many bodies is sparse).  Printing visits only those entries
+        (reading the n^2 entries of a SymEngine matrix one by one costs ~5 us each); a matrix
+        not listed is read entry by entry.
     """
 
     form: str
@@ -96,6 +102,14 @@ class EquationsOfMotion:
     extras_: dict[str, Any] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
     eliminated: tuple[str, ...] = ()
+    structure_: dict[str, Any] = field(default_factory=dict)
+
+    def columns(self, name: str, i: int) -> range | list[int]:
+        """The columns of row *i* of matrix *name* (``"A_"``...) that may be nonzero."""
+        pattern = self.structure_.get(name)
+        if pattern is None:
+            return range(getattr(self, name).shape[1])
+        return pattern.get(i, [])
 
     # ---------------------------------------------------------------- shapes
     @property
@@ -204,8 +218,8 @@ class EquationsOfMotion:
         out = []
         for i in range(self.k):
             lhs: dict = {}
-            for j, a in enumerate(self.unknowns):
-                P.add_into(lhs, P.poly(self.A_[i, j]), a)
+            for j in self.columns("A_", i):
+                P.add_into(lhs, P.poly(self.A_[i, j]), self.unknowns[j])
             P.add_into(lhs, P.poly(self.c_[i]))
             rhs: dict = {}
             P.add_into(rhs, P.poly(self.Qf_[i]))
@@ -307,8 +321,15 @@ class EquationsOfMotion:
         (SymPy syntax, primes for the time derivatives)."""
         P = self.printer
 
-        def matrix(m) -> list:
-            return [[P.expression(m[i, j]) for j in range(m.shape[1])] for i in range(m.shape[0])]
+        def matrix(m, name=None) -> list:
+            if name not in self.structure_:
+                return [[P.expression(m[i, j]) for j in range(m.shape[1])] for i in range(m.shape[0])]
+            zero = P.expression(se.Integer(0))
+            rows = [[zero] * m.shape[1] for _ in range(m.shape[0])]
+            for i, row in enumerate(rows):
+                for j in self.columns(name, i):
+                    row[j] = P.expression(m[i, j])
+            return rows
 
         def column(m) -> list:
             return [P.expression(m[i, 0]) for i in range(m.shape[0])]
@@ -324,7 +345,7 @@ class EquationsOfMotion:
             "eliminated": list(self.eliminated),
             "independent": list(self.independent),
             "notes": list(self.notes),
-            "mass_matrix": matrix(self.A_),
+            "mass_matrix": matrix(self.A_, "A_"),
             "inertial_terms": column(self.c_),
             "generalized_forces": column(self.Qf_),
             "reaction_matrix": matrix(self.B_),

@@ -47,7 +47,7 @@ from ..errors import IndeterminateSystem, MechanicsError
 from ..modeling.symbols import to_se, to_sp
 
 __all__ = ["ServoReach", "Condition", "reach", "root_row", "least_cost_direction",
-           "shared_directions", "directions_dependent", "MAX_EXTRA_ORDER"]
+           "shared_directions", "shared_rows", "control_rows", "directions_dependent", "MAX_EXTRA_ORDER"]
 
 MAX_EXTRA_ORDER = 4      # differentiate at most this many times beyond the acceleration level
 DECOUPLED_TOL = 1e-11    # |G a_u| relative to |G| |a_u| below this at every probe: decoupled
@@ -367,3 +367,51 @@ def shared_directions(dyn, rows, others, columns, weights):
     B = D * C
     return ([tuple(to_se(B[i, k]) for i in range(n)) for k in range(len(rows))],
             [[to_se(C[a, k]) for k in range(len(rows))] for a in range(len(columns))])
+
+
+def shared_rows(dyn, row_of, make_row) -> tuple:
+    """``(names, rows, C)`` of the programs realized by the model's shared controls
+    (``[[controls]]``): each program's row along its least-cost direction
+    (:func:`shared_directions`) and the j x r matrix ``C`` with ``u = C mu``.  Béghin 1922: r
+    programs, j controls; r > j is impossible and raised here, naming the programs.
+    *row_of(constraint)* gives a constraint's row, *make_row* builds a row."""
+    model = dyn.model
+    programs = [c for c in model.constraints if c.shared]
+    if not programs:
+        return [], [], None
+    controls = model.controls
+    if len(programs) > len(controls):
+        raise MechanicsError(
+            f"{len(programs)} programs ({', '.join(repr(c.name) for c in programs)}) but only "
+            f"{len(controls)} shared control(s) ({', '.join(u.name for u in controls)}): with more "
+            "programs than controls the problem is impossible (Béghin 1922: r > j); add controls or "
+            "drop programs", details={"programs": [c.name for c in programs], "r": len(programs),
+                                      "j": len(controls)})
+    others = [row_of(o) for o in model.constraints
+              if not o.shared and o.root is None and o.controls is None and not o.unilateral]
+    base = [row_of(c) for c in programs]
+    cols = [[to_se(x) for x in u.direction] for u in controls]
+    B, C = shared_directions(dyn, base, others, cols, [to_se(u.weight) for u in controls])
+    rows = [make_row(r.name, r.G, r.gamma, b, r.position, r.velocity, r.order, False, "servo")
+            for r, b in zip(base, B)]
+    return [c.name for c in programs], rows, C
+
+
+def control_rows(dyn, row_of, make_row) -> dict:
+    """``{name: (row, coefficients)}`` for every servo-constraint with several control
+    directions (Béghin's r < j): its row realized by the least-cost combination of them
+    (:func:`least_cost_direction`) and ``u_k = coefficients[k] * multiplier``.  *row_of(c)*
+    gives a constraint's row, *make_row* builds a row."""
+    out = {}
+    for c in dyn.model.constraints:
+        if c.controls is None:
+            continue
+        base = row_of(c)
+        others = [row_of(o) for o in dyn.model.constraints
+                  if o.name != c.name and o.root is None and o.controls is None and not o.unilateral]
+        cols = [[to_se(x) for x in col] for col in c.controls]
+        cost = [[to_se(x) for x in r] for r in c.cost] if c.cost is not None else None
+        B, coef = least_cost_direction(dyn, base, others, cols, cost)
+        out[c.name] = (make_row(c.name, base.G, base.gamma, B, base.position, base.velocity,
+                                base.order, base.unilateral, "servo"), coef)
+    return out

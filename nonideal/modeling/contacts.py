@@ -7,21 +7,28 @@ A :class:`Contact` is declared by
   may take either sign: a slider in a rough guide, friction then uses ``|N|``);
 * one or two **slip** velocities ``U = W(q, t) q' + w0`` (physical tangential velocities of
   the contact point, linear in the velocities);
-* a **friction law** -- :class:`Coulomb` (exact, the default), :class:`RegularizedCoulomb`
-  (smooth sign, for comparison) or :class:`LinearizedCoulomb` (the epsilon-linear law of
-  Kalinin & Novozhilov);
+* a **friction law** -- :class:`Coulomb` (exact, the default), :class:`IdealRolling`
+  (``mu = inf``: no slip while the gap is closed, whatever the tangential force),
+  :class:`RegularizedCoulomb` (smooth sign, for comparison) or :class:`LinearizedCoulomb`
+  (the epsilon-linear law of Kalinin & Novozhilov);
 * an **impact law** for when the gap closes -- :class:`Plastic` (default) or
   :class:`Newton` with a restitution coefficient.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
+
+import sympy as sp
 
 __all__ = [
     "Contact",
     "Coulomb",
+    "IdealRolling",
+    "is_infinite",
+    "read_infinite",
     "RegularizedCoulomb",
     "LinearizedCoulomb",
     "Plastic",
@@ -42,6 +49,81 @@ class Coulomb:
     @property
     def exact(self) -> bool:
         return True
+
+
+@dataclass(frozen=True)
+class IdealRolling:
+    """Ideal rolling while in contact (Coulomb's law with ``mu = mu_static = inf``).
+
+    While the gap is closed the slip velocity is held at zero by an ideal nonholonomic
+    constraint (Chetaev) whose multiplier, the friction force, is unbounded: the contact never
+    slides.  The gap is unilateral as for any contact: the contact lifts off when its normal
+    force reaches zero, and a closing gap is an impact (the tangential impulse of sticking,
+    unbounded too).  No slip states, no slip events, no friction work.  A model file writes it
+    ``mu = "inf"`` (or the TOML number ``inf``).
+
+    Examples
+    --------
+    >>> IdealRolling().mu
+    oo
+    """
+
+    @property
+    def mu(self) -> sp.Expr:
+        return sp.oo
+
+    @property
+    def mu_static(self) -> sp.Expr:
+        return sp.oo
+
+    @property
+    def exact(self) -> bool:
+        return True
+
+
+def is_infinite(value: Any) -> bool:
+    """Whether a friction coefficient as written means infinity (ideal rolling): the string
+    ``"inf"`` (or ``"infinity"``, ``"oo"``, any case, optionally ``+``), a float ``inf`` or
+    SymPy's ``oo``.
+
+    Examples
+    --------
+    >>> is_infinite("inf"), is_infinite(float("inf")), is_infinite("mu"), is_infinite(1e9)
+    (True, True, False, False)
+    """
+    if isinstance(value, str):
+        return value.strip().lower().lstrip("+") in ("inf", "infinity", "oo")
+    if isinstance(value, float):
+        return math.isinf(value) and value > 0
+    return value is sp.oo
+
+
+def read_infinite(law: Any, where: str) -> tuple[Any, str | None]:
+    """A friction law with an infinite coefficient read as :class:`IdealRolling` (``Coulomb``
+    with ``mu = inf``), or the problem of a combination that has no meaning (a finite
+    ``mu_static`` with ``mu = inf``, ``mu_static = inf`` alone, a regularized law with
+    ``mu = inf``); other laws are returned as they are.
+
+    Examples
+    --------
+    >>> read_infinite(Coulomb("inf"), "contact 'c'")
+    (IdealRolling(), None)
+    >>> read_infinite(Coulomb(0.3), "contact 'c'")
+    (Coulomb(mu=0.3, mu_static=None), None)
+    """
+    if isinstance(law, Coulomb) and is_infinite(law.mu):
+        if law.mu_static is not None and not is_infinite(law.mu_static):
+            return None, (f"{where}: mu = inf (ideal rolling) with a finite mu_static = "
+                          f"{law.mu_static!r}; the static coefficient is at least the kinetic one: "
+                          "remove mu_static")
+        return IdealRolling(), None
+    if isinstance(law, Coulomb) and law.mu_static is not None and is_infinite(law.mu_static):
+        return None, (f"{where}: mu_static = inf with a finite mu = {law.mu!r}; a contact that never "
+                      "slips is written mu = \"inf\" (ideal rolling), without mu_static")
+    if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)) and is_infinite(law.mu):
+        return None, (f"{where}: mu = inf needs the exact law (friction = \"coulomb\"): a regularized "
+                      "law with infinite mu has no meaning; for ideal rolling remove friction and eps")
+    return law, None
 
 
 @dataclass(frozen=True)
@@ -101,7 +183,8 @@ class Contact:
         ``>= 0``; the normal distance (its multiplier is the normal force).
     slip : sequence of 1 or 2 expressions
         Tangential slip velocities, linear in the velocities.
-    friction : Coulomb, RegularizedCoulomb or LinearizedCoulomb
+    friction : Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb
+        ``Coulomb(math.inf)`` (or ``Coulomb("inf")``) is read as :class:`IdealRolling`.
     impact : Plastic or Newton
     bilateral : bool
         The gap is held at zero by a two-sided guide (no separation; friction uses ``|N|``).

@@ -142,13 +142,16 @@ class Control:
 
 @dataclass(frozen=True)
 class SimulationSettings:
-    """Integrator settings: end time, tolerances, SciPy method, optional max step."""
+    """Integrator settings: end time, tolerances, SciPy method, optional max step, and what a
+    run does where the constraints become singular (``"smooth"``: go on on the smooth branch;
+    ``"stop"``)."""
 
     t_end: float | None = None
     rtol: float = 1e-10
     atol: float = 1e-12
     method: str = "DOP853"
     max_step: float | None = None
+    singular: str = "smooth"
     #: the rule that splits statically indeterminate reactions (one of :data:`SPLIT_RULES`)
     split: str = "widest-margin"
     #: the relative compliance of each row in the ``least-norm`` rule, by constraint or contact
@@ -161,8 +164,8 @@ class SimulationSettings:
                 k: tuple(v) if isinstance(v, (list, tuple)) else (v,) for k, v in self.split_weights.items()})
 
     def __hash__(self) -> int:
-        return hash((self.t_end, self.rtol, self.atol, self.method, self.max_step, self.split,
-                     tuple(sorted(self.split_weights.items()))))
+        return hash((self.t_end, self.rtol, self.atol, self.method, self.max_step, self.singular,
+                     self.split, tuple(sorted(self.split_weights.items()))))
 
 
 def split_problems(settings: SimulationSettings, constraints: Iterable[str],

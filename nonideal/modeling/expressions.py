@@ -397,7 +397,13 @@ class _Parser:
         self.depth -= 1
         if len(args) != arity:
             raise _Fail(tok.col, f"{fname} takes {arity} argument(s), got {len(args)}")
-        return func(*args)
+        try:
+            return func(*args)
+        except (TypeError, ValueError, AttributeError, ArithmeticError):
+            # SymPy's own evaluation failing on an extreme argument (e.g. acos of sin(1e108)
+            # raises from inside its cache); the user gets the place, not the traceback
+            raise _Fail(tok.col, f"{fname}(...) cannot be evaluated for this argument; "
+                                 "write the value as a number") from None
 
     # ---------------------------------------------------------------- checks
     def pow(self, base: sp.Expr, exponent: sp.Expr, col: int) -> sp.Expr:

@@ -7,7 +7,7 @@ The format (``format = 1``, reference: docs/MODEL_FORMAT.md) is extended -- neve
 * ``[[loads]]`` (``type = "force" | "torque"``) turned into generalized forces;
 * ``restitution`` for unilateral constraints (impact law; 0 = plastic, the default);
 * contacts: ``friction = "coulomb" | "regularized" | "linearized"``, ``eps``,
-  ``restitution``, ``bilateral``;
+  ``restitution``, ``bilateral``; ``mu = "inf"`` (ideal rolling while in contact);
 * ``[forms] independent`` -- independent coordinates for the reduced forms (for
   ``lagrange2`` those of the first chart, see :mod:`nonideal.charts`);
 * ``[parameters]`` values may be tables ``{value, unit, description}``, and expressions in the
@@ -29,7 +29,7 @@ from typing import Any
 
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
-from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
+from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb, is_infinite
 from ..errors import ModelError, did_you_mean, short_repr
 from .limits import check_size, read_text
 from .declarations import Control
@@ -48,7 +48,8 @@ SECTION_KEYS = {
     "coordinates": {"q"},
     "energy": {"kinetic", "potential"},
     "gravity": {"vector"},
-    "simulation": {"t_end", "rtol", "atol", "method", "max_step", "t0", "split", "split_weights"},
+    "simulation": {"t_end", "rtol", "atol", "method", "max_step", "t0", "split", "split_weights",
+                   "singular"},
     "forms": {"independent"},
 }
 CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral", "restitution",
@@ -289,7 +290,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
         ok = check.name(c, where) & check.expr(c, "gap", where)
         ok &= check.expr_list(c, "slip", where, (1, 2), allow_scalar=True)
         for key in ("mu", "mu_static"):
-            if key in c:
+            if key in c and not is_infinite(c[key]):  # mu = "inf" (or inf): ideal rolling
                 ok &= check.expr(c, key, where)
         bilateral = check.boolean(c, "bilateral", where)
         e = check.number(c, "restitution", where, 0.0, 0.0, 1.0)
@@ -301,7 +302,10 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
             continue
         mu = c.get("mu", 0)
         if law == "coulomb":
-            if "eps" in c:
+            if "eps" in c and is_infinite(mu):
+                problems.append(f"{where}: eps has no meaning for ideal rolling (mu = \"inf\"); "
+                                "remove it")
+            elif "eps" in c:
                 problems.append(f"{where}: eps applies to the regularized and linearized laws "
                                 "only; remove it or set friction = \"regularized\"")
             friction = Coulomb(mu, c.get("mu_static"))
@@ -411,6 +415,13 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 problems.append(f"[simulation] {key}: must be a string (got {describe(sim[key])})")
     if "split_weights" in sim:
         settings["split_weights"] = _split_weights(sim["split_weights"], check, problems)
+    if "singular" in sim:
+        if sim["singular"] in ("smooth", "stop"):
+            settings["singular"] = sim["singular"]
+        else:
+            problems.append("[simulation] singular: must be \"smooth\" (go on through a singular "
+                            "configuration of the constraints on the smooth branch) or \"stop\" "
+                            f"(got {describe(sim['singular'])})")
     initial = data.get("initial", {})
     if not isinstance(initial, dict):
         problems.append("[initial]: must be a table name = value")

@@ -12,7 +12,8 @@ import numpy as np
 import sympy as sp
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
-from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb
+from .contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb,
+                       read_infinite)
 from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 
@@ -38,8 +39,11 @@ class Normalizer:
         differentiate abs/sign/min/max, and the motion would not be defined at the kinks)."""
         if e is None:
             return None
+        kinks = e.atoms(sp.Abs, sp.sign, sp.Min, sp.Max)
+        if not kinks:  # (the usual case: no O(n_q) set of the model's names per expression)
+            return e
         live = set(self.names(2).values()) - set(self.m.parameter_symbols)
-        rough = sorted({str(f) for f in e.atoms(sp.Abs, sp.sign, sp.Min, sp.Max) if f.free_symbols & live})
+        rough = sorted({str(f) for f in kinks if f.free_symbols & live})
         if rough:
             self.problems.append(
                 f"{where}: {', '.join(rough)} is not differentiable, and this expression is "
@@ -505,13 +509,15 @@ class Normalizer:
             if not e.free_symbols & set(self.m.q):
                 v = e.xreplace(pvals)
                 if v.is_number and float(v) < 0:
-                    self.problems.append(
-                        f"{where}: {key} = {float(v):g} is negative; a friction coefficient "
-                        "is >= 0"
-                    )
+                    self.problems.append(f"{where}: {key} = {float(v):g} is negative; a friction "
+                                         "coefficient is >= 0")
                     return None
             return e
 
+        law, problem = read_infinite(law, where)  # mu = inf: ideal rolling, or a problem
+        if problem or isinstance(law, IdealRolling):
+            self.problems += [problem] if problem else []
+            return None if problem else law
         if isinstance(law, Coulomb):
             mu = coefficient(law.mu, "mu")
             # mu_static defaults to mu: a problem of mu is not reported again under a key the
@@ -529,7 +535,7 @@ class Normalizer:
                 return None
             return type(law)(mu, float(law.eps))
         self.problems.append(
-            f"{where}: friction must be Coulomb, RegularizedCoulomb or LinearizedCoulomb"
+            f"{where}: friction must be Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb"
         )
         return None
 

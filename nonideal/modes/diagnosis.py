@@ -14,6 +14,7 @@ import numpy as np
 from ..errors import MechanicsError, ModelError, PainleveParadox, SingularSystem
 from ..equations.high_order import extended
 from ..modeling.model import Model
+from ..numeric.blocks import definite_above
 from ..numeric.consistency import complete_state
 from ..numeric.kernel import kernel_of, parameter_vector
 
@@ -117,10 +118,12 @@ def diagnose_state(model: Model, t: float, q, qd, closed=(), definite: bool = Fa
         null = np.eye(kernel.n)
     if null.shape[1] == 0:
         return None
-    Mr = null.T @ M @ null
+    Mr = null.T @ M @ null if Gk.shape[0] else M  # (no rows: null = I, no O(n^3) products)
     Mr = (Mr + Mr.T) / 2
-    w, v = np.linalg.eigh(Mr)
     tol = 1e-10 * max(1.0, float(np.max(np.abs(M))))
+    if definite_above(Mr, tol):  # nothing to report (by blocks for a block-diagonal M)
+        return None
+    w, v = np.linalg.eigh(Mr)
     for k in range(len(w)):
         if w[k] > tol or (w[k] < -tol and not definite):
             continue

@@ -232,7 +232,7 @@ def _conditions(solver, mode, layout, lam, cout, free):
         sigma = cs.sigma if not bilateral or cs.state != STICK else (1.0 if lam[j] >= 0 else -1.0)
         if not bilateral or cs.state != STICK:
             linear.append(unit(j, sigma))
-        if cs.state == STICK:
+        if cs.state == STICK and c not in solver.rolling:  # ideal rolling (mu = inf): no cone
             nv = unit(j, sigma * float(cout["mu_s"][c]))
             T = np.array([unit(k) for k in tangents[c]])
             if len(T) == 1:

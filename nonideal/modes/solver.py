@@ -59,6 +59,9 @@ class ModeSolver:
     frictionless : frozenset of int
         The contacts with Coulomb's law whose ``mu`` and ``mu_static`` are zero at *params*:
         they touch in the single state "smooth" (no sticking, no slip events).
+    rolling : frozenset of int
+        The contacts that roll ideally (``mu = inf``): they touch in the single state "stick"
+        (rolling), whatever the friction force; only the normal force can end it.
     """
 
     def __init__(self, kernel: Kernel, params: np.ndarray, form: str = "lagrange1",
@@ -91,6 +94,7 @@ class ModeSolver:
         self.n = kernel.n
         self.laws = [c.law for c in self.ck.data]
         self.frictionless = self.ck.frictionless(params) if self.ck else frozenset()
+        self.rolling = self.ck.rolling if self.ck else frozenset()
         self.reference: dict[int, np.ndarray] = {}
         #: how statically indeterminate reactions are reported: (rule, weights by name)
         settings = self.model.simulation

@@ -11,7 +11,9 @@ direction) and keeps the consistent ones:
 * sliding contact: ``N >= 0`` and, at the onset (``U ~ 0``), slip acceleration along the
   assumed direction (``U' = kappa s, kappa >= 0``; for two components the direction is found
   by a one-dimensional root search);
-* "smooth" contact (a regularized law, or no friction): ``N >= 0``.
+* "smooth" contact (a regularized law, or no friction): ``N >= 0``;
+* ideally rolling contact (``mu = inf``): closed, it is either separated or rolling
+  (``N >= 0``, any friction force) -- never sliding.
 
 Static friction is preferred (a consistent sticking state wins over sliding).  If the
 consistent combinations still give different motions, or none is consistent, the problem has
@@ -21,20 +23,22 @@ reported with the contact, the state and the critical friction coefficient.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 import itertools
 import math
 
 import numpy as np
 from scipy.optimize import brentq
 
-from ..errors import MechanicsError, ModelError, PainleveParadox, SingularSystem
-from .diagnosis import diagnose_initial_state, diagnose_state, format_state, singular_configuration
+from ..errors import MechanicsError, PainleveParadox, SingularSystem
 from .system import compliance_of
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, ContactState, Mode
 from .solver import ModeSolver
 from ..numeric.kernel import SingularMatrix, max_abs, solve_saddle
+from .validation import validate_contacts, validate_state  # noqa: F401 - where callers find them
 
-__all__ = ["select_mode", "impact", "effective_compliance", "critical_friction", "MAX_COMBINATIONS"]
+__all__ = ["select_mode", "impact", "effective_compliance", "critical_friction", "MAX_COMBINATIONS",
+           "validate_contacts", "validate_state"]
 
 MAX_COMBINATIONS = 4096
 
@@ -63,6 +67,8 @@ def contact_options(solver: ModeSolver, kin: np.ndarray, scales, tol_pos=1e-9, t
         U = kin[at["U"] + ck.offsets[c]:at["U"] + ck.offsets[c] + ck.dims[c]]
         if not solver.laws[c].exact or c in solver.frictionless:
             opts += [ContactState(SMOOTH, (), s) for s in sigmas]
+        elif c in solver.rolling:  # ideal rolling: touching means rolling (after any impact)
+            opts.append(ContactState(STICK))
         elif np.sqrt(U @ U) <= tol_vel * sv:
             opts.append(ContactState(STICK))
             for sg in sigmas:
@@ -135,15 +141,16 @@ def _consistent(solver, motion, mode, closed_uni, scales, onset_check=True):
                 return False
             continue
         N, F = motion.normal(c), motion.friction(c)
+        cone = cs.state == STICK and c not in solver.rolling  # ideal rolling: no friction limit
         if solver.ck.data[c].bilateral:
             if cs.state in (SLIDE, SMOOTH) and cs.sigma * N < -tol_f:
                 return False
-            if cs.state == STICK and np.sqrt(F @ F) > motion.mu_s(c) * abs(N) + tol_f:
+            if cone and np.sqrt(F @ F) > motion.mu_s(c) * abs(N) + tol_f:
                 return False
         else:
             if N < -tol_f:
                 return False
-            if cs.state == STICK and np.sqrt(F @ F) > motion.mu_s(c) * N + tol_f:
+            if cone and np.sqrt(F @ F) > motion.mu_s(c) * N + tol_f:
                 return False
         U = motion.slip(c)
         if cs.state == SLIDE and onset_check and np.sqrt(U @ U) <= 1e-9 * sv:
@@ -177,14 +184,49 @@ def _same(a: Mode, b: Mode) -> bool:
     return True
 
 
+def _differing(choices: list):
+    """The first ``(mode, motion)`` of *choices* and those whose accelerations differ from it."""
+    m0, s0 = choices[0]
+    scale = 1e-7 * (1.0 + max_abs(s0.qdd))
+    return m0, s0, [(m, s) for m, s in choices[1:] if not np.allclose(s.qdd, s0.qdd, rtol=1e-7, atol=scale)]
+
+
+def _lifting(solver, choices: list, sf: float) -> list:
+    """*choices* (consistent ``(mode, motion)`` pairs) without those that keep a contact
+    touching with a normal force at the noise level when the same choice with that contact
+    separated is consistent too: the contact is lifting off at this instant.
+
+    With a large friction coefficient (``mu = 1e9``) a sticking contact starts to slide at
+    ``N = |F|/mu``, a normal force far below the tolerance of the sign tests, where separation
+    is consistent as well; sliding and separation then differ by the friction ``mu N = |F|``,
+    finite, and looked like Painleve's indeterminacy.  A genuine indeterminacy keeps a normal
+    force well above the noise."""
+    def lifts(touching, motion, separated) -> bool:
+        if touching.held != separated.held:
+            return False
+        tol = 1e-9 * (sf + max_abs(motion.values))
+        differ = False
+        for c, ((_, a), (_, b)) in enumerate(zip(touching.contacts, separated.contacts)):
+            if a == b:
+                continue
+            if b.state != SEPARATED or a.state == SEPARATED or abs(motion.normal(c)) > tol:
+                return False
+            differ = True
+        return differ
+
+    kept = [(m, s) for m, s in choices if not any(lifts(m, s, o) for o, _ in choices if o is not m)]
+    return kept or choices
+
+
 def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
-                tol_pos: float = 1e-9, tol_vel: float = 1e-9, exclude: Mode | None = None,
+                tol_pos: float = 1e-9, tol_vel: float = 1e-9, exclude: Mode | Sequence[Mode] | None = None,
                 previous: Mode | None = None, concerned: str | None = None) -> Mode:
     """Choose held unilateral constraints and contact states at a state.
 
     *exclude* is the mode that an event has just ended (a multiplier or a friction margin
-    reached zero): at the switching point it is still (marginally) consistent, so it is
-    dropped whenever another consistent choice exists.  *previous* is the mode before the
+    reached zero), or the modes a chain of events has ended at the same instant: at the
+    switching point they are still (marginally) consistent, so they are dropped whenever
+    another consistent choice exists.  *previous* is the mode before the
     event and *concerned* the contact the event is about: among equally sticky choices with
     the same contacts touching, the one that changes the fewest other contacts is taken.
 
@@ -196,6 +238,7 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
         No consistent choice (or several) without a sliding contact involved.
     """
     kernel = solver.kernel
+    excluded = () if exclude is None else (exclude,) if isinstance(exclude, Mode) else tuple(exclude)
     sq, sv = _scales(q, qd)
     closed = []
     if solver.unilateral:
@@ -249,8 +292,8 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
             if not np.isfinite(qdd).all():
                 continue
             if _consistent(solver, motion, mode, closed, scales):
-                if exclude is not None and _same(mode, exclude):
-                    fallback = (mode, motion)
+                if any(_same(mode, e) for e in excluded):
+                    fallback = fallback or (mode, motion)
                     continue
                 consistent.append((mode, motion))
                 level = sticks if level is None else level
@@ -284,9 +327,10 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
                            if a.state != b.state and name != concerned)
             least = min(change(m) for m, _ in preferred)
             preferred = [(m, sol) for m, sol in preferred if change(m) == least]
-    m0, s0 = preferred[0]
-    scale = 1e-7 * (1.0 + max_abs(s0.qdd))
-    distinct = [(m, s) for m, s in preferred[1:] if not np.allclose(s.qdd, s0.qdd, rtol=1e-7, atol=scale)]
+    m0, s0, distinct = _differing(preferred)
+    if distinct:  # a contact lifting off with a huge mu is no indeterminacy
+        preferred = _lifting(solver, preferred, scales[2])
+        m0, s0, distinct = _differing(preferred)
     if distinct:
         m1 = distinct[0][0]
         sliding = [n for n, cs in m0.contacts + m1.contacts if cs.state == SLIDE]
@@ -407,6 +451,8 @@ def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting=
         s = U / nrm if nrm > 1e-12 * (1 + np.max(np.abs(qd))) else None
         if c in solver.frictionless:  # a normal impulse only
             s, opts = np.zeros(len(U)), ["slide", "off"]
+        elif c in solver.rolling:  # ideal rolling: the gap closes rolling (or does not close)
+            opts = ["stick", "off"]
         else:
             opts = ["stick"] + (["slide"] if s is not None and solver.laws[c].exact else []) + ["off"]
         options_c.append([(c, o, s) for o in opts])
@@ -457,7 +503,7 @@ def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting=
                     if lab[0] == "n" and value < -tol:
                         ok = False
                 for (c, o, s) in combo:
-                    if o == "stick":
+                    if o == "stick" and c not in solver.rolling:  # rolling: unbounded impulse cone
                         Ln = lam[labels.index(("n", c))]
                         Lt = np.array([lam[labels.index(("t", c, kk))] for kk in range(ck.dims[c])])
                         if np.linalg.norm(Lt) > cout["mu_s"][c] * Ln + tol:
@@ -489,97 +535,3 @@ def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting=
                     return qd_plus, impulses
     raise MechanicsError("no consistent impact: every impulse set pulls or lets a contact "
                          "penetrate", t, dict(zip(solver.model.coordinates, q)))
-
-
-def validate_contacts(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray) -> None:
-    """Checks of the contacts at a state that the model file cannot express.
-
-    Raises
-    ------
-    ModelError
-        A negative friction coefficient (when it depends on the state), or friction declared on
-        a direction the constraints already fix (the slip velocity has no freedom: its Jacobian
-        lies in the span of the constraint and gap Jacobians).
-    """
-    ck = solver.ck
-    if not ck:
-        return
-    x = solver.input(t, q, qd)
-    # a pure function of the model and the input: states already found valid are not checked again
-    key = x.tobytes()
-    seen = solver.model.cached("valid contact inputs", set)
-    if key in seen:
-        return
-    cout = {k: np.array(v) if isinstance(v, np.ndarray) else v for k, v in ck(x).items()}
-    out = solver.kernel.dynamics(x)
-    src = None if solver.model.source == "<api>" else solver.model.source
-    problems = []
-    G_con = out["G"][solver.bilateral] if solver.kernel.m and solver.bilateral else np.zeros((0, solver.n))
-    for c, data in enumerate(ck.data):
-        name = data.name
-        if cout["mu"][c] < 0 or cout["mu_s"][c] < 0:
-            problems.append(f"contact '{name}': friction coefficient is negative at the initial state "
-                            f"(mu = {cout['mu'][c]:.6g}, mu_static = {cout['mu_s'][c]:.6g}); it must be >= 0")
-        if cout["mu_s"][c] < cout["mu"][c] - 1e-12:
-            problems.append(f"contact '{name}': mu_static = {cout['mu_s'][c]:.6g} is smaller than the "
-                            f"kinetic mu = {cout['mu'][c]:.6g}; Coulomb's law needs mu_static >= mu")
-        o, d = ck.offsets[c], ck.dims[c]
-        base = np.vstack([G_con, cout["Gn"][c][None, :]])
-        W = cout["W"][o:o + d]
-        r0 = np.linalg.matrix_rank(base)
-        r1 = np.linalg.matrix_rank(np.vstack([base, W]))
-        if r1 < r0 + d:
-            problems.append(
-                f"contact '{name}': friction on a direction with no tangential freedom -- the slip "
-                "velocity's gradient lies in the span of the constraints and the normal; the "
-                "constraints already fix that motion, so no friction force can be identified. "
-                "Remove the constraint that fixes it or the friction on this contact")
-        if np.linalg.norm(cout["Gn"][c]) < 1e-14:
-            problems.append(f"contact '{name}': the gap has zero gradient at the initial state, so no "
-                            "normal force can be identified; write the gap as the normal distance")
-    if problems:
-        raise ModelError(problems, src)
-    if len(seen) > 256:
-        seen.clear()
-    seen.add(key)
-
-
-def validate_state(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray) -> None:
-    """Checks of a state that starts an evaluation or a simulation: the contacts
-    (:func:`validate_contacts`), every term of the equations finite there (naming the kinetic
-    energy, the potential or the forces), and the kinetic energy positive definite on the
-    velocities the bilateral constraints allow (a negative mass or moment of inertia: no
-    Painleve paradox, bad input) -- memoized per input like the contacts' checks.
-
-    Raises
-    ------
-    ModelError
-    """
-    validate_contacts(solver, t, q, qd)
-    x = solver.input(t, q, qd)
-    key = x.tobytes()
-    seen = solver.model.cached("well-posed inputs", set)
-    if key in seen:
-        return
-
-    model = solver.model
-    src = None if model.source == "<api>" else model.source
-    out = solver.kernel.dynamics(x)
-    if not (np.all(np.isfinite(out["M"])) and np.all(np.isfinite(out["F"]))):
-        obs = solver.kernel.observables(x)
-        parts = [(k, what) for k, what in (("T", "[energy] kinetic (or [[bodies]])"), ("V", "[energy] potential"))
-                 if not np.all(np.isfinite(np.asarray(obs[k], dtype=float)))]
-        what = (" and ".join(w for _, w in parts) + (" is" if len(parts) == 1 else " are")
-                if parts else "the generalized forces ([forces], [[loads]]) or the derivatives of "
-                "the energies are")
-        raise ModelError(f"{what} not finite at {format_state(model, t, q)} (an overflow, a log or sqrt of a "
-                         "non-positive number, asin/acos outside [-1, 1], a division by zero): "
-                         "change the initial state or the expression", src)
-    problem = diagnose_state(model, t, q, qd, definite=True, params=solver.params)
-    if problem is not None:
-        if diagnose_initial_state(model, definite=True) is None:  # another state than the initial one
-            raise singular_configuration(problem)
-        raise problem
-    if len(seen) > 256:
-        seen.clear()
-    seen.add(key)

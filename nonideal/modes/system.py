@@ -34,6 +34,7 @@ from ..numeric.contact_kernel import contact_kernel_of
 from ..modeling.contacts import RegularizedCoulomb
 from ..equations.dynamics import dynamics_of
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, Mode, RowSpec
+from ..numeric.blocks import BLOCKS_MIN_N, BlockSolver, blocks_of
 from ..numeric.kernel import Compiled, SingularMatrix
 
 __all__ = ["ModeSystem", "ModeFunction", "system_of", "compliance_of", "SPECIALIZE_CALLS"]
@@ -108,9 +109,17 @@ class ModeSystem:
         c0 = kd.size  # the contact outputs follow the kernel's in z
         cat = {name: c0 + start for name, start in ck.at.items()}
         m_all = kernel.m
-        # K (Fortran order: entry (i, k) at i + k s) and r = [F; -gamma], gathered from z
-        src = [ksl["M"] + i * n + k for i in range(n) for k in range(n)]
-        dst = [i + k * s for i in range(n) for k in range(n)]
+        # K (Fortran order: entry (i, k) at i + k s) and r = [F; -gamma], gathered from z: the
+        # compiled (nonzero) entries of M only, the others stay zero
+        nz = kd.entries("M")
+        self.M_at = ksl["M"]
+        src_M, dst_M = ksl["M"] + nz, nz // n + (nz % n) * s
+        #: M q'' = F by blocks when M has independent blocks (many bodies; None: dense LAPACK)
+        self.blocks = None
+        if not m and n >= BLOCKS_MIN_N:
+            groups = blocks_of(n, zip((nz // n).tolist(), (nz % n).tolist()))
+            self.blocks = BlockSolver(n, groups) if len(groups) > 1 else None
+        src, dst = [], []
         rsrc = list(range(ksl["F"], ksl["F"] + n))
         self.sliding = []
         self.tangent_slip: dict[int, int] = {}  # layout row of a sticking slip -> its U in z
@@ -137,8 +146,8 @@ class ModeSystem:
                 rsrc.append(cat["gamma_U"] + row)
             src += g_row + b_col
             dst += [col + k * s for k in range(n)] + [k + col * s for k in range(n)]
-        self.src = np.array(src, dtype=np.intp)
-        self.dst = np.array(dst, dtype=np.intp)
+        self.src = np.concatenate((src_M, np.array(src, dtype=np.intp)))
+        self.dst = np.concatenate((dst_M, np.array(dst, dtype=np.intp)))
         self.rsrc = np.array(rsrc, dtype=np.intp)
         self.power = slice(ksl["P"], ksl["P"] + 2) if "P" in ksl else None
         self.calls = 0  # evaluations by solve_with_powers (the right-hand side)
@@ -158,7 +167,7 @@ class ModeSystem:
         x[1:1 + 2 * n] = y[:2 * n]
         solver.kernel.dynamics.raw(x, solver.kz)
         if not self.m:  # no rows: M q'' = F, read in place (M is symmetric: no transpose)
-            return z[self.src[0]:self.src[0] + n * n].reshape(n, n), z[self.rsrc], []
+            return z[self.M_at:self.M_at + n * n].reshape(n, n), z[self.rsrc], []
         if self.contact_rows:
             solver.ck.fn.raw(x, solver.cz)
         K = np.zeros(self.s * self.s)
@@ -212,6 +221,10 @@ class ModeSystem:
         if self._dependent:
             raise SingularMatrix("dependent rows: statically indeterminate multipliers")
         if self.m == 0:
+            if self.blocks is not None:
+                sol = self.blocks.solve(K, r)
+                if sol is not None:
+                    return sol, None, None
             _, sol, info = _dposv(K, r)
             if info == 0:
                 return sol, None, None

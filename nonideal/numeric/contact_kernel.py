@@ -6,6 +6,8 @@ and for every slip component ``r`` (contacts' components concatenated; ``offsets
 first of contact ``c``) ``U[r]``, ``W[r]`` (``dU/dq'``), ``gamma_U[r]`` (``U' = W q'' + gamma_U``).
 ``at[name]`` is where each output starts in the flat output array (``W`` row-major, shape
 ``(components, n_q)``), for the index-based fast path of :mod:`nonideal.modes.system`.
+A contact that rolls ideally (``mu = inf``, :class:`~nonideal.modeling.contacts.IdealRolling`)
+has ``mu = mu_s = inf``; :attr:`ContactKernel.rolling` lists them.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..equations.dynamics import dynamics_of
+from ..modeling.contacts import IdealRolling
 from ..modeling.model import Model
 from .kernel import Compiled
 
@@ -30,6 +33,8 @@ class ContactKernel:
         self.offsets = list(np.cumsum([0] + self.dims[:-1])) if self.data else []
         self.n = dyn.n
         self.params = dyn.params
+        #: the contacts that roll ideally while closed (``mu = inf``): no slide state, no slip event
+        self.rolling = frozenset(c for c, d in enumerate(self.data) if isinstance(d.law, IdealRolling))
         symbols = [dyn.t] + dyn.q + dyn.qd + dyn.params
         if not self.data:
             self.fn = None
@@ -77,7 +82,8 @@ class ContactKernel:
         def zero(expr) -> bool:
             value = expr.subs(values)
             return value.is_Number and float(value) == 0.0
-        return frozenset(c for c, d in enumerate(self.data) if d.law.exact and zero(d.mu) and zero(d.mu_s))
+        return frozenset(c for c, d in enumerate(self.data)
+                         if c not in self.rolling and d.law.exact and zero(d.mu) and zero(d.mu_s))
 
     def slip(self, out: dict, c: int) -> np.ndarray:
         o = self.offsets[c]

@@ -35,14 +35,29 @@ from ..equations.eom import EquationsOfMotion
 from ..errors import MechanicsError, ModelError, did_you_mean
 from ..modeling.model import Model
 
-__all__ = ["Compiled", "Kernel", "FormSystem", "solve_saddle", "SingularMatrix", "kernel_of", "max_abs"]
+__all__ = ["Compiled", "Sparse", "Kernel", "FormSystem", "solve_saddle", "SingularMatrix", "kernel_of", "max_abs"]
 
 
 class SingularMatrix(Exception):
     """Raised by :func:`solve_saddle`; callers turn it into a named, actionable error."""
 
 
+@dataclass(frozen=True)
+class Sparse:
+    """A matrix output given by its nonzero entries: ``shape (rows, cols)`` and
+    ``entries {(i, j): expression}``; the others are structurally zero.  :class:`Compiled`
+    compiles only the entries and writes them into the dense (row-major) layout, so a
+    block-diagonal mass matrix of n_q coordinates costs O(n_q) compiled outputs, not n_q^2."""
+
+    shape: tuple[int, int]
+    entries: Mapping[tuple[int, int], object]
+
+
 def _flatten(value):
+    if isinstance(value, Sparse):
+        cols = value.shape[1]
+        items = {i * cols + j: e for (i, j), e in value.entries.items()}
+        return items, value.shape
     if isinstance(value, se.DenseMatrix):
         return list(value), value.shape
     if isinstance(value, (list, tuple)):
@@ -63,25 +78,41 @@ off after roughly 10^5 evaluations -- far more than a typical simulation needs."
 _LLVM = bool(getattr(se, "have_llvm", False))
 
 
+CSE_MAX_SYMBOLS = 10_000
+"""Above this many occurrences of symbols in the compiled outputs (summed over the outputs'
+sets of free symbols) SymEngine's common-subexpression elimination is skipped: its cost grows
+faster than linearly with the size (1000 particles on springs: the 3000 forces compile in 15 s
+with it, 3.2 s without; their potential 6.7 s and 2.2 s), while the outputs of such large
+systems (many bodies, each entry of its own few coordinates) share little.  Smaller kernels --
+every model of the gallery, the 20-link pendulum -- keep it."""
+
+
 def _lambdify(inputs, exprs, optimize: bool):
-    """SymEngine Lambdify with CSE; LLVM without optimization unless *optimize*.
+    """SymEngine Lambdify with CSE (up to :data:`CSE_MAX_SYMBOLS`); LLVM without
+    optimization unless *optimize*.
 
     The inputs are renamed first: SymEngine's common-subexpression elimination names its
     temporaries ``x0, x1, ...`` and avoids only the names that occur in the expressions, so an
-    input called ``x1`` that no output uses would be overwritten.
+    input called ``x1`` that no output uses would be overwritten.  Each expression is renamed
+    through a map of its own symbols only (a map of every input costs O(inputs) per
+    expression: 6.5 s for the 3000 forces of 1000 particles on springs, O(n^2)).
     """
     safe = [se.Symbol(f"__in{i}__") for i in range(len(inputs))]
     rename = dict(zip(inputs, safe))
     exprs = [se.sympify(e) for e in exprs]
-    if exprs:   # one substitution over all outputs (per expression it would rebuild the map each time)
-        exprs = list(se.DenseMatrix(len(exprs), 1, exprs).xreplace(rename))
-    inputs = safe
+    size, renamed = 0, []
+    for e in exprs:
+        free = e.free_symbols
+        size += len(free)
+        renamed.append(e.xreplace({s: rename[s] for s in free if s in rename}) if free else e)
+    exprs, inputs = renamed, safe
+    cse = size <= CSE_MAX_SYMBOLS
     if _LLVM and not optimize:
         try:
-            return se.Lambdify(inputs, exprs, cse=True, backend="llvm", opt_level=0)
+            return se.Lambdify(inputs, exprs, cse=cse, backend="llvm", opt_level=0)
         except (TypeError, ValueError, RuntimeError):  # pragma: no cover - older SymEngine
             pass
-    return se.Lambdify(inputs, exprs, cse=True)
+    return se.Lambdify(inputs, exprs, cse=cse)
 
 
 class Compiled:
@@ -90,33 +121,69 @@ class Compiled:
     Parameters
     ----------
     inputs : list of se.Symbol
-    outputs : mapping name -> expression, list, nested list or se.DenseMatrix
+    outputs : mapping name -> expression, list, nested list, se.DenseMatrix or :class:`Sparse`
     optimize : bool, optional
         Compile with full optimization at once (default: only after
         :data:`TIER_UP_CALLS` evaluations, see the module docstring).
+    sparse : bool, optional
+        Compile only the outputs that are not identically zero (default); the others are
+        zeros of the flat layout.  ``False`` compiles every output (the dense path: the same
+        numbers, tested).
 
     Calling it with a flat float array returns a dict of NumPy views: scalars as 0-d values,
     vectors with shape (n,), matrices with shape (rows, cols).
+
+    Attributes
+    ----------
+    size : int
+        Length of the flat output (every entry of every output).
+    compiled : int
+        How many of them are compiled (the nonzero ones with ``sparse``).
     """
 
-    def __init__(self, inputs: Sequence, outputs: Mapping[str, object], optimize: bool = False):
+    def __init__(self, inputs: Sequence, outputs: Mapping[str, object], optimize: bool = False,
+                 sparse: bool = True):
         self.inputs = list(inputs)
         self.slices: dict[str, tuple[slice, tuple]] = {}
-        flat: list = []
+        exprs: list = []
+        where: list[int] = []
+        size = 0
         for name, value in outputs.items():
             items, shape = _flatten(value)
-            self.slices[name] = (slice(len(flat), len(flat) + len(items)), shape)
-            flat.extend(items)
-        self.size = len(flat)
-        self._exprs = [se.sympify(x) for x in flat]
+            length = math.prod(shape) if shape else 1
+            self.slices[name] = (slice(size, size + length), shape)
+            pairs = sorted(items.items()) if isinstance(items, dict) else enumerate(items)
+            for k, e in pairs:
+                e = se.sympify(e)
+                if sparse and e == 0:
+                    continue
+                where.append(size + k)
+                exprs.append(e)
+            size += length
+        self.size = size
+        self.compiled = len(exprs)
+        self._exprs = exprs
+        #: positions of the compiled outputs in the flat layout (None: all of them, in order)
+        self._where = None if len(exprs) == size else np.array(where, dtype=np.intp)
+        self._part = np.zeros(len(exprs)) if self._where is not None else None
         # tiering only matters for the LLVM backend
         self._calls = 0 if (_LLVM and not optimize) else -1
-        self.fn = _lambdify(self.inputs, self._exprs, optimize or not _LLVM) if flat else None
+        self.fn = _lambdify(self.inputs, self._exprs, optimize or not _LLVM) if exprs else None
         if self.fn is None:
             self._calls = -1
         self.out = np.zeros(self.size)
+        self._clean = self.out  # the last buffer whose uncompiled entries are known to be zero
         self._views = self.views(self.out)
         self._scalars = [(name, sl.start) for name, (sl, shape) in self.slices.items() if not shape]
+
+    def entries(self, name: str) -> np.ndarray:
+        """Offsets, within output *name*, of its compiled entries (row-major for a matrix):
+        every entry but those that are identically zero (all of them without ``sparse``)."""
+        sl, _ = self.slices[name]
+        if self._where is None:
+            return np.arange(sl.stop - sl.start, dtype=np.intp)
+        w = self._where
+        return w[(w >= sl.start) & (w < sl.stop)] - sl.start
 
     def _tier_up(self) -> None:
         self.fn = _lambdify(self.inputs, self._exprs, True)
@@ -124,11 +191,21 @@ class Compiled:
 
     def raw(self, x: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
         """The flat output array: written into *out* (contiguous, shape ``(size,)``) when
-        given, else into a reused buffer (copy it to keep it)."""
+        given, else into a reused buffer (copy it to keep it).  With uncompiled (zero)
+        entries, a buffer other than the last one given is zeroed first; the caller must not
+        write into the zero entries of a buffer it passes again."""
         if out is None:
             out = self.out
-        if self.fn is not None:
+        if self._where is not None:
+            if out is not self._clean:
+                out.fill(0.0)
+                self._clean = out
+            if self.fn is not None:
+                self.fn.unsafe_real(x, self._part)
+                out[self._where] = self._part
+        elif self.fn is not None:
             self.fn.unsafe_real(x, out)
+        if self.fn is not None:
             if self._calls >= 0:
                 self._calls += 1
                 if self._calls >= TIER_UP_CALLS:
@@ -139,7 +216,12 @@ class Compiled:
         """Evaluate at every row of *X* (shape ``(N, inputs)``) in one call: shape ``(N, size)``."""
         if self.fn is None or len(X) == 0:
             return np.zeros((len(X), self.size))
-        return np.asarray(self.fn(np.ascontiguousarray(X, dtype=float)), dtype=float).reshape(len(X), self.size)
+        values = np.asarray(self.fn(np.ascontiguousarray(X, dtype=float)), dtype=float).reshape(len(X), -1)
+        if self._where is None:
+            return values
+        out = np.zeros((len(X), self.size))
+        out[:, self._where] = values
+        return out
 
     def __call__(self, x: np.ndarray) -> dict[str, np.ndarray]:
         """Evaluate; returns views into a reused buffer (valid until the next call)."""
@@ -242,9 +324,9 @@ class Kernel:
     -----
     ``dynamics(x)`` returns ``M (n, n)``, ``F (n,)``, ``G (m, n)``, ``gamma (m,)``, ``B (n, m)``
     for all ``m`` constraint rows of the model; the simulation selects the rows of the current
-    mode by index.  ``observables(x)`` returns ``T, T0, V``, the power of the non-potential
-    forces ``P_nc``, the explicit-time power ``P_t = dV/dt - dT/dt`` and the position/velocity
-    residuals of every row.
+    mode by index.  ``observables(x)`` returns ``T, T0, V``, ``T2 = q' M q'/2``, the power of
+    the non-potential forces ``P_nc``, the explicit-time power ``P_t = dV/dt - dT/dt`` and the
+    position/velocity residuals of every row.
     """
 
     def __init__(self, model: Model):
@@ -257,13 +339,12 @@ class Kernel:
         self.symbols = [dyn.t] + dyn.q + dyn.qd + dyn.params
         self.layout = Inputs(dyn.n, len(dyn.params))
         n, m = dyn.n, len(self.rows)
-        M = dyn.M
-        Mu = [M[i, j] for i in range(n) for j in range(n)]
         F = list(dyn.F)
         G = [[r.G[j] for j in range(n)] for r in self.rows]
         gamma = [r.gamma for r in self.rows]
         B = [[r.B[j] for r in self.rows] for j in range(n)] if m else []
-        outputs = {"M": [Mu[i * n:(i + 1) * n] for i in range(n)], "F": F}
+        # the mass matrix by its nonzero entries (O(n) of them for many bodies), dense at evaluation
+        outputs = {"M": Sparse((n, n), dyn.mass_entries), "F": F}
         if m:
             outputs.update(G=G, gamma=gamma, B=B)
         self.has_nc_forces = any(se.sympify(q) != 0 for q in dyn.Q_nc)
@@ -288,7 +369,10 @@ class Kernel:
             P_t = se.diff(dyn.V, dyn.t) - se.diff(dyn.T, dyn.t)
             pos = [r.position if r.position is not None else se.Integer(0) for r in self.rows]
             vel = [r.velocity if r.velocity is not None else se.Integer(0) for r in self.rows]
-            outputs = {"T": dyn.T, "T0": dyn.T0, "V": dyn.V, "P_nc": P_nc, "P_t": P_t}
+            # T2 = q'.M.q'/2 from the nonzero entries (a trajectory's energy without n x n
+            # matrices per sample)
+            T2 = se.Add(*[e * qd[i] * qd[j] for (i, j), e in dyn.mass_entries.items()]) / 2
+            outputs = {"T": dyn.T, "T0": dyn.T0, "T2": T2, "V": dyn.V, "P_nc": P_nc, "P_t": P_t}
             if self.rows:
                 outputs.update(pos=pos, vel=vel)
             self._obs = Compiled(self.symbols, outputs)

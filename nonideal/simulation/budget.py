@@ -13,12 +13,17 @@ without bound.  Three limits keep every run bounded:
 * :func:`check_times`: at most :data:`MAX_TIMES` requested sample times;
 * :class:`StepBudget`: after :data:`PROBE_STEPS` steps, and every as many after, the number of
   steps the run needs is extrapolated from its progress; above :data:`MAX_STEPS` the run is
-  refused, naming the estimate and what to change.
+  refused, naming the estimate and what to change.  Likewise its time (the processor time of
+  the process, so that a busy machine does not count), extrapolated once the run has taken
+  :data:`PROBE_SECONDS`: above :data:`MAX_SECONDS` it is refused (a stiff
+  spring, k = 1e9, integrated by Radau at rtol 1e-10 to t_end = 1 would take 3e6 steps of
+  0.5 ms: 25 minutes; it is refused after a second or two).
 """
 
 from __future__ import annotations
 
 import numbers
+import time
 
 import numpy as np
 
@@ -26,7 +31,7 @@ from ..equations.formalisms import FORMS
 from ..errors import ModelError
 from ..modeling.arguments import real_number, require_form, require_mapping, require_model, sample_times
 
-__all__ = ["MAX_SAMPLES", "MAX_TIMES", "MAX_STEPS", "PROBE_STEPS", "SampleBuffer", "StepBudget",
+__all__ = ["MAX_SAMPLES", "MAX_TIMES", "MAX_STEPS", "PROBE_STEPS", "MAX_SECONDS", "PROBE_SECONDS", "SampleBuffer", "StepBudget",
            "check_times", "check_arguments", "sample_dense"]
 
 MAX_SAMPLES = 100_000
@@ -37,6 +42,10 @@ MAX_STEPS = 5_000_000
 """Integrator steps a run may need (extrapolated from its progress) before it is refused."""
 PROBE_STEPS = 2_000
 """Steps between two extrapolations."""
+MAX_SECONDS = 600.0
+"""Processor time a run may need (extrapolated from its progress) before it is refused."""
+PROBE_SECONDS = 1.0
+"""Processor time a run takes before its total is extrapolated (read every 64 steps)."""
 
 
 def check_times(times: np.ndarray) -> None:
@@ -87,24 +96,38 @@ class SampleBuffer(list):
 
 
 class StepBudget:
-    """Refuses a run whose extrapolated number of steps exceeds :data:`MAX_STEPS`."""
+    """Refuses a run whose extrapolated number of steps exceeds :data:`MAX_STEPS`, or whose
+    extrapolated processor time exceeds :data:`MAX_SECONDS`."""
 
-    def __init__(self, t0: float, t_end: float, source: str | None, limit: int = MAX_STEPS):
+    def __init__(self, t0: float, t_end: float, source: str | None, limit: int = MAX_STEPS,
+                 seconds: float | None = None, method: str = "DOP853"):
         self.t0, self.t_end, self.source, self.limit = t0, t_end, source, limit
+        self.seconds, self.method = MAX_SECONDS if seconds is None else seconds, method
         self.steps = 0
+        self.start = time.process_time()
 
     def step(self, t: float) -> None:
         self.steps += 1
-        if self.steps % PROBE_STEPS or t <= self.t0:
+        if self.steps % 64 or t <= self.t0:
             return
-        needed = self.steps * (self.t_end - self.t0) / (t - self.t0)
-        if needed > self.limit:
-            raise ModelError(
-                f"simulate: this run cannot finish: after {self.steps} steps it has reached "
-                f"t = {t:.6g} of t_end = {self.t_end:.6g}, so it would need about {needed:.2g} "
-                f"steps (the limit is {self.limit:.0e}): give an earlier end time (--t-end), a "
-                "looser tolerance (rtol), or a stiff integrator (--method Radau or BDF) for a "
-                "stiff model", self.source)
+        progress = (t - self.t0) / (self.t_end - self.t0)
+        elapsed = time.process_time() - self.start
+        if self.steps % PROBE_STEPS == 0 and self.steps / progress > self.limit:
+            self._refuse(t, f"{self.steps} steps", f"about {self.steps / progress:.2g} steps",
+                         f"{self.limit:.0e} steps")
+        if elapsed >= PROBE_SECONDS and elapsed / progress > self.seconds:
+            self._refuse(t, f"{elapsed:.2g} s", f"about {elapsed / progress:.2g} s",
+                         f"{self.seconds:g} s")
+
+    def _refuse(self, t: float, spent: str, needed: str, limit: str):
+        other = ("an explicit integrator (--method DOP853) for a motion that oscillates fast rather "
+                 "than decays: an implicit one resolves each oscillation with many more, shorter "
+                 "steps") if self.method in ("Radau", "BDF", "LSODA") else \
+            "a stiff integrator (--method Radau or BDF) for a stiff model"
+        raise ModelError(
+            f"simulate: this run cannot finish: after {spent} it has reached t = {t:.6g} of "
+            f"t_end = {self.t_end:.6g}, so it would need {needed} (the limit is {limit}): give an "
+            f"earlier end time (--t-end), a looser tolerance (rtol), or {other}", self.source)
 
 
 def check_arguments(model, t_end, times, form, options: dict) -> None:

@@ -162,8 +162,11 @@ class SlipStart(ContactEvent):
     excludes_current = True
 
     def value(self, motion) -> float:
+        mu_s = motion.mu_s(self.row)
+        if mu_s == math.inf:  # ideal rolling: an unbounded cone never lets it slip
+            return math.inf
         F = motion.friction(self.row)
-        return motion.mu_s(self.row) * abs(motion.normal(self.row)) - math.sqrt(F @ F)
+        return mu_s * abs(motion.normal(self.row)) - math.sqrt(F @ F)
 
 
 @dataclass(frozen=True)

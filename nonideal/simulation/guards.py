@@ -42,6 +42,9 @@ PROBES = 3
 PROBE_NEAR = 2.0
 """Functions that need a solve are probed when their smaller end value is within this many
 times their change across the step of zero."""
+SLOPE_STEP = 1e-6
+"""The slopes of the kinematic event functions at the ends of a step are their differences over
+this fraction of the step along the trajectory's tangent."""
 NEAR_END = 1e-3
 """Two more samples this fraction of an interval inside the ends of the step (the slopes)."""
 
@@ -60,10 +63,12 @@ class StepScan:
     """
 
     def __init__(self, value: Callable[[int, float], float], a: float, b: float,
-                 ends: Sequence[tuple[float, float]], cheap: Sequence[bool] | None = None):
+                 ends: Sequence[tuple[float, float]], cheap: Sequence[bool] | None = None,
+                 slopes: Callable[[int], tuple[float, float] | None] | None = None):
         self.value, self.a, self.b = value, a, b
         self.cheap = cheap
         self.ends = ends
+        self.slopes = slopes
         self._s = None
 
     @property
@@ -108,12 +113,19 @@ class StepScan:
         return te, True
 
     def _worth_probing(self, k: int, ga: float, gb: float) -> bool:
-        """Cheap functions (kinematic: gaps, slips) are always probed; the others (forces,
-        which need a solve of the mode per sample) when the step brings them within twice
-        their change across it of zero, or across it."""
+        """Whether the step could bring function *k* to zero inside: when it comes within
+        :data:`PROBE_NEAR` times its change across the step of zero, or crosses.  The change is
+        ``|g(b) - g(a)|`` and, for the cheap (kinematic: gaps, slips) functions whose slopes at
+        the ends are known, ``h |g'|`` at either end: a dip to zero and back within the step
+        shows in the slopes (a slip that stops and restarts, a flight landing within the step).
+        A cheap function without slopes is always probed."""
+        change = abs(gb - ga)
         if self.cheap is None or self.cheap[k]:
-            return True
-        return min(ga, gb) <= PROBE_NEAR * abs(gb - ga)
+            slopes = self.slopes(k) if self.slopes is not None else None
+            if slopes is None:
+                return True
+            change = max(change, (self.b - self.a) * max(abs(slopes[0]), abs(slopes[1])))
+        return min(ga, gb) <= PROBE_NEAR * change
 
     def _after(self, k: int, x: float, gx: float) -> float | None:
         """First root after an interior point *x* (``g(x) = gx > 0``) of the step."""
@@ -162,6 +174,24 @@ class Step:
         self.a, self.b = ode.t_old, ode.t
         self._dense = None
         self._motions = {self.b: motion}
+        self._tangents = None
+
+    def tangents(self):
+        """The motions a short way along the trajectory's tangent from both ends, ``(t_a + e,
+        y_a + e f_a)`` and ``(t_b - e, y_b - e f_b)`` with ``e = SLOPE_STEP h``, for the slopes
+        of the kinematic event functions, from the derivatives an explicit Runge-Kutta method
+        holds at the ends of its step (no evaluation of the right-hand side, no dense output);
+        None for the other integrators."""
+        if self._tangents is None:
+            ode = self.ode
+            K, f, y_old = (getattr(ode, key, None) for key in ("K", "f", "y_old"))
+            if K is None or f is None or y_old is None:
+                self._tangents = False
+            else:
+                e = SLOPE_STEP * (self.b - self.a)
+                self._tangents = (e, Motion(self.solver, self.mode, self.a + e, y_old + e * K[0]),
+                                  Motion(self.solver, self.mode, self.b - e, ode.y - e * f))
+        return self._tangents or None
 
     @property
     def dense(self):
@@ -188,7 +218,15 @@ def event_hits(step: Step, events, armed: list[bool], tols, g_prev, g_new) -> li
 
     def value(k, s):
         return events[k].value(step.motion(s))
-    scan = StepScan(value, step.a, step.b, list(zip(g_prev, g_new)), [ev.kinematic for ev in events])
+
+    def slopes(k):
+        tangents = step.tangents()
+        if tangents is None:
+            return None
+        e, at_a, at_b = tangents
+        return (events[k].value(at_a) - g_prev[k]) / e, (g_new[k] - events[k].value(at_b)) / e
+    scan = StepScan(value, step.a, step.b, list(zip(g_prev, g_new)), [ev.kinematic for ev in events],
+                    slopes)
     hits = []
     for k in range(len(events)):
         te, now_armed = scan.first_root(k, armed[k], tols[k])

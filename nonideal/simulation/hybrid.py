@@ -33,10 +33,10 @@ from ..modes.motion import Motion
 from ..modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
 from ..modes.solver import ModeSolver
 from ..numeric.kernel import kernel_of, max_abs, parameter_vector
-from ..modes.switching import effective_compliance, impact, select_mode, validate_state
+from ..modes.switching import impact, select_mode, validate_state
 from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
 from .guards import Step, event_hits
-from .singular import Regularity, mass_stall, servo_stall
+from .singular import BRANCHES, JUMP_FROM, SINGULAR, Regularity, explain_stall
 from .extended import reduce
 from ..equations.high_order import extension_of
 from .rhs import phase_rhs
@@ -80,6 +80,10 @@ class Simulation:
         integrated :data:`~nonideal.modes.system.SPECIALIZE_CALLS` times (faster; it agrees
         with the index path to rounding).  ``False`` keeps the index path, so that a run
         gives bit-identical results whatever ran before it in the process.
+    singular : {"smooth", "stop"}, optional
+        Where the constraints become singular along the motion: go on on the smooth branch
+        (an event ``singular``) or stop (:class:`~nonideal.errors.SingularMotion`); default
+        from the model's ``[simulation] singular`` (:mod:`nonideal.simulation.singular`).
     """
 
     def __init__(self, model: Model, form: str = "lagrange1",
@@ -87,7 +91,7 @@ class Simulation:
                  atol: float | None = None, method: str | None = None,
                  max_step: float | None = None, independent=None, max_events: int = 10_000,
                  detect_jam: bool = True, specialize: bool = True,
-                 max_samples: int | None = MAX_SAMPLES):
+                 max_samples: int | None = MAX_SAMPLES, singular: str | None = None):
         self.model = model
         self.kernel = kernel_of(model)
         self.params = parameter_vector(model, parameters)
@@ -99,7 +103,11 @@ class Simulation:
         if self.method not in SOLVERS:
             raise ModelError(f"--method: unknown integrator '{self.method}'; choose one of {', '.join(SOLVERS)}")
         self.max_step = max_step if max_step is not None else (sim.max_step or np.inf)
+        self.singular = singular or sim.singular
+        if self.singular not in BRANCHES:
+            raise ModelError(f"singular: must be one of {', '.join(BRANCHES)} (got {self.singular!r})")
         self.max_events = max_events
+        self._chain = (-np.inf, [])  # the modes events ended at one instant (all marginal there)
         self.max_samples = max_samples
         self.detect_jam = detect_jam
         k = self.kernel
@@ -183,9 +191,13 @@ class Simulation:
             new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8, previous=mode,
                               concerned=ev.name)
         else:
+            same = self._chain[1] if abs(t - self._chain[0]) <= 1e-8 * (1 + abs(t)) else []
+            self._chain = (t, same + [mode] if ev.excludes_current else same)
+            if len(self._chain[1]) > 20:
+                raise IntegrationFailed(t, mode.label(), "the mode switches at this instant do not "
+                                        f"settle: {', '.join(m.label() for m in same[-4:])}, ...")
             new = select_mode(self.solver, t, q, qd, tol_pos=1e-8, tol_vel=1e-8,
-                              exclude=mode if ev.excludes_current else None, previous=mode,
-                              concerned=ev.name)
+                              exclude=self._chain[1] or None, previous=mode, concerned=ev.name)
         q, qd = self._project(new, t, q, qd)
         y[:n], y[n:2 * n] = q, qd
         record["type"] = ev.outcome(mode, new)
@@ -350,7 +362,7 @@ class Simulation:
         y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))
         atol = self._work_tolerances() if self.track else self.atol
         samples = SampleBuffer(self.max_samples)  # bounded: thinned past max_samples steps
-        budget = StepBudget(t0, t_end, None if model.source == "<api>" else model.source)
+        budget = StepBudget(t0, t_end, None if model.source == "<api>" else model.source, method=self.method)
         events_log: list[dict] = []
         next_time = 0
 
@@ -387,6 +399,7 @@ class Simulation:
             ode = Solver(fun, t, y, t_end, **kwargs)
             g_prev = [ev.value(motion) for ev in events]
             watched = regularity.rows(solver.rows(mode))
+            level = SINGULAR if self.singular == "stop" else JUMP_FROM
             regularity.start(motion, watched)
             tols = [self._tolerance(ev, motion) for ev in events]
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
@@ -415,9 +428,29 @@ class Simulation:
                 g_new = [ev.value(motion) for ev in events]
                 step = Step(solver, mode, ode, motion)
                 hits = event_hits(step, events, armed, tols, g_prev, g_new)
-                singular = regularity.crossing(step, watched) if watched else None
+                singular = regularity.crossing(step, watched, level) if watched else None
+                passed = None  # a singular instant carried over on the smooth branch
                 if singular is not None and (not hits or singular <= min(hits)[0]):
-                    regularity.stop(self.model, step.motion(singular), watched)
+                    if self.singular == "stop":
+                        regularity.stop(self.model, step.motion(singular), watched)
+                    passed = regularity.pass_through(self, mode, fun, step, singular, watched, Solver, atol)
+                    if passed is None:  # a near miss, or no smooth branch: guard as "stop" does
+                        level = SINGULAR
+                        singular = regularity.crossing(step, watched, level, force=True)
+                        if singular is not None and (not hits or singular <= min(hits)[0]):
+                            regularity.stop(self.model, step.motion(singular), watched)
+                if passed is not None:
+                    t, y, dense, record = passed
+                    if t > t_end:  # the end falls within the interval carried over
+                        t, y = t_end, dense(t_end)
+                    events_log.append(record)
+                    if times is not None:
+                        next_time = sample_dense(dense, t_old, t, times, next_time, mode, emit)
+                    else:
+                        emit(record["interval"][0], dense(record["interval"][0]), mode)
+                    pending = times is None
+                    restart = True
+                    continue
                 if hits:
                     te, k = min(hits)
                     ye = step.state(te)
@@ -519,30 +552,7 @@ class Simulation:
         return Trajectory.from_samples(self, samples, events_log, diagnostics, residual_max)
 
     def _explain_failure(self, ode, mode: Mode) -> None:
-        """If a sliding contact is at the edge of Painleve's paradox, or the chart of Lagrange
-        II is singular, say so instead."""
-        n = self.n
-        charts = self.solver.charts
-        reason = charts.explain(mode, ode.t, ode.y[:n], ode.y[n:2 * n]) if charts is not None else None
-        if reason:
-            raise IntegrationFailed(ode.t, mode.label(), reason,
-                                    None if self.model.source == "<api>" else self.model.source)
-        start = np.concatenate(self.initial_state())
-        mass_stall(self.model, self.solver, ode.t, ode.y, self.model.t0, start)
-        servo_stall(self.model, self.solver, ode.t, ode.y, mode, self.model.t0, start)
-        for name, cs in mode.contacts:
-            if cs.state != SLIDE:
-                continue
-            try:
-                b = effective_compliance(self.solver, ode.t, ode.y[:n], ode.y[n:2 * n], mode, name)
-            except Exception:  # pragma: no cover
-                continue
-            if b <= 1e-6:
-                state = dict(zip(self.model.coordinates, ode.y[:n]))
-                raise PainleveParadox(
-                    f"Painleve paradox at contact '{name}': the integration stalled while the "
-                    f"effective normal compliance b = {b:.3g} of the sliding contact vanished -- the "
-                    "normal force grows without bound (dynamic jamming)", ode.t, state)
+        explain_stall(self, ode, mode)
 
 
 def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | None = None,
@@ -575,14 +585,13 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
     [0.0, 1.0]
     """
     allowed = ("parameters", "rtol", "atol", "method", "max_step", "independent", "max_events",
-               "detect_jam", "specialize", "initial", "stop_on", "max_samples")
+               "detect_jam", "specialize", "initial", "stop_on", "max_samples", "singular")
     unknown = [k for k in options if k not in allowed]
     if unknown:
         from ..errors import did_you_mean
         raise ModelError([f"simulate: unknown option '{k}'{did_you_mean(k, allowed)}; allowed: "
                           + ", ".join(allowed) for k in unknown])
-    ext = extension_of(model)  # third-order constraints: the extended model's motion, read back
-    if ext is not None:
+    if (ext := extension_of(model)) is not None:  # third order: the extended model's motion, read back
         return reduce(ext, simulate(ext.model, t_end, times, form, **options), options.get("parameters"))
     check_arguments(model, t_end, times, form, options)
     initial = options.pop("initial", None)

@@ -24,24 +24,65 @@ step a cheap test (:meth:`Regularity.suspect`: a row that reversed, rows whose o
 flipped) says whether the step may have passed a singular point; only then is ``rho`` guarded
 inside the step like the events (:mod:`nonideal.guards`), and when it falls below :data:`SINGULAR` the
 run stops with :class:`~nonideal.errors.SingularMotion` (exit code 3), naming the constraints,
-the time and the state.
+the time and the state -- when the model's ``[simulation] singular = "stop"``.
+
+By default (``singular = "smooth"``) the run goes on through the singular instant on the
+*smooth branch*, the continuation whose velocities and accelerations are continuous
+(:meth:`Regularity.pass_through`): ``x = sin t`` and not ``|sin t|`` for the dependent pair,
+``z' = a x'`` changing sign with ``x'`` for the cone.  The guard then watches for the regularity
+falling to :data:`JUMP_FROM` (closer to the singular point the accelerations, computed from
+rows that are nearly dependent, lose accuracy as ``1/rho``: at 1e-6 the velocity of the
+dependent pair is already 10 % off).  The step is re-integrated up to there (``t* - d``), the
+singular instant ``t*`` is located from the linear fall of ``rho``, and the state is carried
+over ``[t* - d, t* + 2d]`` by the Hermite polynomial of the motion before it (values and
+derivatives at ``t* - 4d, ..., t* - d``, each integrated to from the step's start: degree
+seven), then projected onto the constraints
+at ``t* + 2d``, where they are regular again (Newton
+from the extrapolated state converges to the root of the smooth branch).  The run records an
+event ``type = "singular"`` naming the constraints and the branch; the multipliers are
+unbounded at ``t*`` (a pole ``~ 1/(t - t*)``) and are not sampled inside the interval.
+When the projected velocities differ from the extrapolated ones (the rows only came close to
+dependent and the motion turns back, or no smooth branch exists), the step is integrated as it
+is and guarded as with ``"stop"``: a singular instant without a smooth branch stops the run.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..errors import MechanicsError, SingularMotion, SingularSystem
+from scipy.interpolate import KroghInterpolator
+from scipy.optimize import brentq, minimize_scalar
+
+from ..errors import IntegrationFailed, MechanicsError, PainleveParadox, SingularMotion, SingularSystem
 from ..modes.diagnosis import weakest_reactions
+from ..modes.motion import Motion
+from ..modes.switching import effective_compliance
+from ..modes.types import SLIDE
 from .guards import StepScan
 
-__all__ = ["SINGULAR", "LOST", "Regularity", "servo_stall", "mass_stall"]
+__all__ = ["SINGULAR", "JUMP_FROM", "BRANCHES", "LOST", "Regularity", "servo_stall", "mass_stall", "explain_stall"]
+
+BRANCHES = ("smooth", "stop")
+"""Values of ``[simulation] singular``: go on on the smooth branch, or stop (exit code 3)."""
 
 SINGULAR = 1e-6
 """Regularity below which the constraint rows are treated as singular."""
 SUSPECT = 1e-3
 """Regularity (or determinant of the rows at the two ends of a step) below which a step is
 scanned inside for a singular point."""
+JUMP_FROM = 1e-2
+"""Regularity from which the smooth branch is extrapolated over the singular instant (closer,
+the state loses accuracy as ``1/rho``: the constraints fix the coordinates along the weakest
+combination only to their residual divided by ``rho``; farther, the extrapolation does)."""
+ZERO = 1e-4
+"""Least regularity along the carried-over motion below which the rows count as singular there
+(a dip that stays above it is integrated through as it is, as it is with ``"stop"``)."""
+BASE = 4
+"""Points before the singular instant whose values and derivatives the extrapolation uses
+(degree ``2 BASE - 1``)."""
+BRANCH_TOL = 1e-4
+"""Largest change of the velocities (relative) that the projection onto the constraints may make
+to the extrapolated state for it to count as the smooth branch."""
 
 
 class Regularity:
@@ -61,19 +102,20 @@ class Regularity:
         """The state that starts a phase (its rows are the reference of the next step)."""
         self.last = self._unit_rows(motion, rows, update=True)[0] if rows else None
 
-    def suspect(self, motion, rows: list[int]) -> bool:
+    def suspect(self, motion, rows: list[int], level: float = SINGULAR) -> bool:
         """Accept the state at the end of a step; True when the rows may have gone through a
         singular configuration since the previous accepted state: a row reversed its direction
         (its gradient went through zero), ``det(G~_new G~_old^T)`` is not positive (they went
-        through a dependent configuration), or the regularity is below :data:`SUSPECT`.  Cheap:
+        through a dependent configuration, or are close to one), or the regularity is below
+        :data:`SUSPECT` (ten times *level* when that is larger).  Cheap:
         only then is the step scanned (:meth:`value` on the dense output)."""
         unit, shrink = self._unit_rows(motion, rows, update=True)
         last, self.last = self.last, unit
-        if last is None or last.shape != unit.shape or shrink <= SUSPECT:
+        if last is None or last.shape != unit.shape or shrink <= max(SUSPECT, 10 * level):
             return True
         if np.any(np.einsum("ij,ij->i", unit, last) <= 0.0):
             return True
-        return len(rows) > 1 and np.linalg.det(unit @ last.T) <= SUSPECT
+        return len(rows) > 1 and np.linalg.det(unit @ last.T) <= max(SUSPECT, 2 * (10 * level) ** 2)
 
     def _unit_rows(self, motion, rows, update=False):
         """The rows scaled to unit norm, and the smallest ratio of a row's norm to its
@@ -92,15 +134,15 @@ class Regularity:
         out = self.kernel.dynamics(motion.solver.input(motion.t, motion.q, motion.qd))
         return np.asarray(out["G"], dtype=float).reshape(-1, motion.n), np.asarray(out["M"], dtype=float)
 
-    def crossing(self, step, rows: list[int]) -> float | None:
+    def crossing(self, step, rows: list[int], level: float = SINGULAR, force: bool = False) -> float | None:
         """The first time in *step* (:class:`~nonideal.simulation.guards.Step`) where the
-        regularity falls to :data:`SINGULAR`, or None; the step is scanned only when
-        :meth:`suspect` says so."""
-        if not self.suspect(step.motion(step.b), rows):
+        regularity falls to *level* (:data:`SINGULAR`; :data:`JUMP_FROM` when the run goes on
+        through), or None; the step is scanned only when :meth:`suspect` says so (or *force*)."""
+        if not self.suspect(step.motion(step.b), rows, level) and not force:
             return None
 
         def rho(_, s):
-            return self.value(step.motion(s), rows) - SINGULAR
+            return self.value(step.motion(s), rows) - level
         ends = (rho(0, step.a), rho(0, step.b))
         return StepScan(rho, step.a, step.b, [ends]).first_root(0, ends[0] > 0, 0.0)[0]
 
@@ -160,6 +202,99 @@ class Regularity:
             "determine the motion beyond this state (several continuations satisfy them); "
             "remove the redundant constraint, or end the run before this time", motion.t, state,
             {"constraints": ", ".join(involved), "regularity": f"{rho:.3g}"})
+
+
+    def pass_through(self, sim, mode, fun, step, t_s: float, watched: list[int], Solver, atol):
+        """Carry the motion over the singular instant found at *t_s* in *step* on the smooth
+        branch (see the module docstring).
+
+        Returns
+        -------
+        None
+            When the rows only come close to dependent (least regularity above :data:`ZERO`),
+            or the state projected on the constraints beyond is not the extrapolated one (the
+            motion turns back before the singular configuration, or no smooth branch exists):
+            the driver then integrates on, guarding as ``"stop"`` does.
+        t_b : float
+            Where the run resumes (the rows are regular again).
+        y_b : ndarray
+            The state there, on the constraints.
+        dense : callable
+            The motion on ``[step.a, t_b]`` (for the requested sample times).
+        record : dict
+            The ``singular`` event.
+
+        Raises
+        ------
+        SingularMotion
+            When the step cannot be re-integrated up to the singular instant, or the regularity
+            does not fall towards it.
+        """
+        a, n, solver = step.a, sim.n, sim.solver
+        pieces = []  # (from, to, dense output) of the motion re-integrated from the step's start
+
+        def integrate(t_from, y_from, t_to):
+            ode = Solver(fun, t_from, y_from, t_to, rtol=sim.rtol, atol=atol, max_step=sim.max_step)
+            while ode.status == "running" and ode.step() is None and ode.status != "failed":
+                pieces.append((min(ode.t_old, ode.t), max(ode.t_old, ode.t), ode.dense_output()))
+            if ode.status != "finished":
+                self.stop(sim.model, step.motion(t_s), watched)
+            return ode.y
+
+        def before(s):
+            return next((d for lo, hi, d in pieces if lo <= s <= hi), pieces[-1][2])(s)
+
+        def rho(s):
+            return self.value(Motion(solver, mode, s, before(s)), watched)
+        integrate(a, step.state(a), t_s)
+        rho_s, twice = rho(t_s), 2 * JUMP_FROM
+        t_p = brentq(lambda s: rho(s) - twice, a, t_s, xtol=1e-14 * max(1.0, abs(t_s))) \
+            if rho(a) > twice else a
+        rho_p = rho(t_p)
+        if not (t_s > t_p and rho_p > rho_s):
+            self.stop(sim.model, step.motion(t_s), watched)
+        t_star = t_s + rho_s * (t_s - t_p) / (rho_p - rho_s)  # rho falls linearly to zero at t*
+        d = t_star - t_s
+        base = [t_star - k * d for k in range(BASE, 0, -1)]
+        # the states there integrated to, from the step's start (not read on a dense output,
+        # whose order is lower than the integrator's: Radau's is 3)
+        y_a = step.state(a)
+        ys = [y_a if s == a else integrate(a, y_a, s) for s in base]
+        fs = [np.asarray(fun(s, y), dtype=float) for s, y in zip(base, ys)]
+        smooth = KroghInterpolator(np.repeat(base, 2), np.array([v for p in zip(ys, fs) for v in p]))
+        t_b, t_a = t_star + 2 * d, t_s  # rho(t_b) ~ 2 JUMP_FROM: the guard is armed again
+        # the singular instant: where the rows are least regular along the extrapolated motion
+        # (which needs only the coordinates there: well conditioned)
+        found = minimize_scalar(lambda s: self.value(Motion(solver, mode, s, smooth(s)), watched),
+                                bounds=(t_a, t_b), method="bounded",
+                                options={"xatol": 1e-13 * max(1.0, abs(t_b))})
+        if found.fun > ZERO:  # only close to dependent: the step is integrated as it is
+            return None
+        y_b = np.array(smooth(t_b), dtype=float)
+        q, qd = sim._project(mode, t_b, y_b[:n], y_b[n:2 * n])
+        change = float(np.max(np.abs(qd - y_b[n:2 * n])))
+        if change > BRANCH_TOL * (1.0 + float(np.max(np.abs(y_b[n:2 * n])))):
+            return None  # no smooth branch (or the rows only came close to dependent)
+        y_b[:n], y_b[n:2 * n] = q, qd
+        _, vanishing, w = self.analyse(Motion(solver, mode, found.x, smooth(found.x)), watched)
+        rows = self.kernel.rows
+        if vanishing is not None or w is None:
+            names = [rows[vanishing if vanishing is not None else watched[0]].name]
+            why = "lost its gradient"
+        else:
+            names = [rows[watched[k]].name for k in range(len(watched)) if abs(w[k]) > 1e-3 * np.max(np.abs(w))]
+            why = "became dependent"
+        record = {"t": float(found.x), "type": "singular", "constraint": ", ".join(names),
+                  "mode": mode.label(), "branch": "smooth", "interval": [float(t_a), float(t_b)],
+                  "note": f"the constraint{'s' if len(names) > 1 else ''} {why} at this instant: "
+                          "the multipliers are unbounded there (a pole ~ 1/(t - t*)); the motion "
+                          "goes on on the branch with continuous velocities and accelerations "
+                          "(carried over the interval, then projected onto the constraints)",
+                  "velocity_change": change}
+
+        def dense(s):
+            return before(s) if s <= t_a else np.asarray(smooth(s), dtype=float)
+        return t_b, y_b, dense, record
 
 
 LOST = 1e-4
@@ -273,3 +408,32 @@ def mass_stall(model, solver, t: float, y: np.ndarray, t0: float, y0: np.ndarray
         "without bound; the kinetic energy is degenerate at this state (check the factors in "
         "front of the velocities), or end the run before it",
         None if model.source == "<api>" else model.source)
+
+
+def explain_stall(sim, ode, mode) -> None:
+    """When the integration of *sim* (a :class:`~nonideal.simulation.hybrid.Simulation`)
+    stalls, name the cause if it is known: a singular chart of Lagrange II, a singular mass
+    matrix (:func:`mass_stall`), a servo-constraint that stops being realizable
+    (:func:`servo_stall`), a sliding contact at the edge of Painleve's paradox."""
+    n, model = sim.n, sim.model
+    source = None if model.source == "<api>" else model.source
+    charts = sim.solver.charts
+    reason = charts.explain(mode, ode.t, ode.y[:n], ode.y[n:2 * n]) if charts is not None else None
+    if reason:
+        raise IntegrationFailed(ode.t, mode.label(), reason, source)
+    start = np.concatenate(sim.initial_state())
+    mass_stall(model, sim.solver, ode.t, ode.y, model.t0, start)
+    servo_stall(model, sim.solver, ode.t, ode.y, mode, model.t0, start)
+    for name, cs in mode.contacts:
+        if cs.state != SLIDE:
+            continue
+        try:
+            b = effective_compliance(sim.solver, ode.t, ode.y[:n], ode.y[n:2 * n], mode, name)
+        except Exception:  # pragma: no cover
+            continue
+        if b <= 1e-6:
+            state = dict(zip(model.coordinates, ode.y[:n]))
+            raise PainleveParadox(
+                f"Painleve paradox at contact '{name}': the integration stalled while the "
+                f"effective normal compliance b = {b:.3g} of the sliding contact vanished -- the "
+                "normal force grows without bound (dynamic jamming)", ode.t, state)

@@ -114,7 +114,6 @@ class Trajectory:
         X[:, 0] = t
         X[:, 1:1 + 2 * n] = Y[:, :2 * n]
         obs = kernel.observables.views(kernel.observables.batch(X))
-        M = kernel.dynamics.views(kernel.dynamics.batch(X))["M"]
         for k, m in enumerate(motions):
             if m.system.row_col:
                 values = m.reported
@@ -128,7 +127,7 @@ class Trajectory:
             for c, rec in enumerate(records):
                 rec.append(m.contact_record(c))
         T, V = obs["T"], obs["V"]
-        E = 0.5 * np.einsum("ki,kij,kj->k", qd, M, qd) - obs["T0"] + V
+        E = obs["T2"] - obs["T0"] + V
         works = Y[:, 2 * n:2 * n + 5] if Y.shape[1] > 2 * n else np.zeros((N, 5))
         W_nc, W_R, W_t, W_f, W_i = (works[:, k] for k in range(5))
         balance = (E - E[0]) - (W_nc + W_R + W_t + W_f + W_i) if N else np.zeros(0)
@@ -161,7 +160,8 @@ class Trajectory:
                               "slip": np.array(slip, dtype=float).reshape(N, d).tolist(),
                               "gap": np.array(gap, dtype=float), "mu_static": np.array(mu_s, dtype=float),
                               "mode": list(label)}
-        controls = _controls(kernel, mult, qd, kernel.dynamics.views(kernel.dynamics.batch(X)), t, X)
+        controls = _controls(kernel, mult, qd, kernel.dynamics.views(kernel.dynamics.batch(X)), t, X) \
+            if any(r.reaction_kind == "servo" for r in kernel.rows) else {}  # (no n x n M per sample)
         return cls(kernel.model.name, tuple(kernel.model.coordinates), t, q, qd, qdd,
                    [s.mode.label() for s in samples], mult, energy, list(events), diag, contacts,
                    controls)

@@ -141,6 +141,26 @@ def test_the_rules_differ_where_they_should_and_never_in_the_motion():
         assert lo == pytest.approx(0.0, abs=1e-9) and hi == pytest.approx(W + L - 10.0, rel=1e-9)
 
 
+@pytest.mark.parametrize("split", ["widest-margin", "least-norm"])
+def test_pushed_past_the_limit_the_block_breaks_away_up_the_slope(split):
+    """At P = W + L (t* = (W + L)/c) the incline's friction reaches its limit with the wall
+    unloaded: the block slides up the slope, leaving the wall.  Several sticking choices are
+    marginal at that instant (the wall touching or not); each is dropped in turn and the run
+    goes on sliding (it used to switch between the two sticking choices forever).  After t*:
+    m x'' = c (t - t*) + (mu_s - mu) m g cos(alpha)."""
+    model = block(split)
+    W, Np, L = loads(model)
+    c, T = 5.0, 2.5
+    t_star = (W + L) / c
+    run = simulate(model, t_end=T, parameters={"c": c})
+    assert run.events[0]["t"] == pytest.approx(t_star, abs=1e-8)
+    assert run.modes[-1] == "plane:slide+, wall:separated" and len(run.events) <= 3
+    p = model.parameter_values
+    s = T - t_star
+    x = c * s ** 3 / (6 * p["m"]) + (p["mu_s"] - p["mu"]) * G * np.cos(p["alpha"]) * s ** 2 / 2
+    assert run.q[-1][0] == pytest.approx(x, rel=1e-7)
+
+
 def test_least_norm_on_friction_discs_matches_an_independent_minimization():
     """The three-legged table pushed by P = 7 (below mu_s m g = 7.85), its first leg four times
     stiffer tangentially than the others (weight 0.25): that leg takes more friction, up to its

@@ -2,6 +2,7 @@
 the Python API checks its arguments as the command line does."""
 
 import math
+import time
 
 import numpy as np
 import pytest
@@ -10,6 +11,7 @@ import nonideal
 from nonideal.errors import ModelError, SingularSystem
 from nonideal.modeling.modelfile import load_model, model_from_dict
 from nonideal.simulation import simulate
+from nonideal.simulation import budget
 from nonideal.simulation.budget import MAX_TIMES, SampleBuffer
 from tests.helpers import DATA_DIR
 
@@ -42,9 +44,31 @@ def test_sample_buffer_keeps_events_and_halves_steps():
     assert steps == sorted(steps) and all(b - a == buf.stride for a, b in zip(steps[1:], steps[2:]))
 
 
-def test_a_run_that_cannot_finish_is_refused(pendulum):
+def test_a_run_that_cannot_finish_is_refused(pendulum, monkeypatch):
+    monkeypatch.setattr(budget, "MAX_SECONDS", 1e9)  # the count of steps, not the clock
     with pytest.raises(ModelError, match=r"cannot finish.*about 1e\+10 steps"):
         simulate(pendulum)  # t_end = 1e9
+
+
+STIFF = {"model": {"name": "Stiff spring", "format": 1},
+         "parameters": {"m": 1.0, "k": 1e9}, "coordinates": {"q": ["x"]},
+         "energy": {"kinetic": "m/2*x'^2", "potential": "k/2*x^2"},
+         "initial": {"x": 1.0, "x'": 0.0}, "simulation": {"t_end": 1.0, "method": "Radau"}}
+
+
+def test_radau_on_a_stiff_spring_finishes_a_short_run_and_refuses_a_long_one_within_seconds():
+    model = model_from_dict(STIFF, "stiff.toml")
+    w = math.sqrt(1e9)
+    period = 2 * math.pi / w
+    traj = simulate(model, t_end=period, times=[period / 4, period])  # ~600 Radau steps
+    assert traj.q[:, 0] == pytest.approx([0.0, 1.0], abs=1e-7)
+    assert traj.qd[0, 0] == pytest.approx(-w, rel=1e-8)
+    # to t_end = 1: 5000 periods, 3e6 steps of about 0.5 ms -- refused after PROBE_SECONDS
+    start = time.process_time()
+    with pytest.raises(ModelError, match=r"cannot finish: after .* s it has reached.*about .* s "
+                                         r"\(the limit is 600 s\).*--method DOP853"):
+        simulate(model)
+    assert time.process_time() - start < 30 * budget.PROBE_SECONDS
 
 
 def test_too_many_requested_times_are_refused(pendulum):

@@ -39,6 +39,14 @@ def lagrange1_equations(dyn: Dynamics, rows: list[ConstraintRow]):
     return dyn.M, dyn.h, Q, B, G, gamma
 
 
+def mass_pattern(dyn: Dynamics) -> dict[int, list[int]]:
+    """The nonzero columns of each row of the mass matrix, ``{i: [j, ...]}``."""
+    pattern: dict[int, list[int]] = {}
+    for i, j in sorted(dyn.mass_entries):
+        pattern.setdefault(i, []).append(j)
+    return pattern
+
+
 class Lagrange1(Formalism):
     name = "lagrange1"
     title = "Lagrange equations of the first kind (with multipliers)"
@@ -55,4 +63,5 @@ class Lagrange1(Formalism):
             constraint_names=tuple(r.name for r in rows), rows=tuple(rows),
             independent=tuple(dyn.model.coordinates),
             A_=A, c_=c, Qf_=Q, B_=B, G_=G, gamma_=gamma, R_=se.eye(n), r_=se.zeros(n, 1),
+            structure_={"A_": mass_pattern(dyn)},
         )
