@@ -323,8 +323,8 @@ def least_cost_direction(dyn, row, others, columns, cost):
 
     With ``P`` the compliance of the system under the other constraints (``q'' = a0 + P D u``),
     the program ``G q'' + gamma = 0`` is one linear condition on u, and the least-cost controls
-    are ``u = W^-1 D^T P G^T mu`` for a scalar mu: the program is realized by the single
-    direction ``B = D W^-1 D^T P G^T`` with multiplier mu.  Returns ``(B, coefficients)`` with
+    are ``u = W^-1 D^T P^T G^T mu`` for a scalar mu: the program is realized by the single
+    direction ``B = D W^-1 D^T P^T G^T`` with multiplier mu.  Returns ``(B, coefficients)`` with
     ``u_k = coefficients[k] * mu`` (SymEngine).  Explicit symbolic cost: one LU solve of the
     other rows' saddle-point system and the inverse of W (j x j)."""
     n = dyn.n
@@ -332,7 +332,7 @@ def least_cost_direction(dyn, row, others, columns, cost):
     rhs = sp.zeros(K.shape[0], 1)
     for i in range(n):
         rhs[i, 0] = to_sp(row.G[i])
-    x = K.LUsolve(rhs)[:n, 0]
+    x = K.T.LUsolve(rhs)[:n, 0]     # P^T G^T (P = P^T only when the other rows are ideal)
     D = sp.Matrix([[to_sp(col[i]) for col in columns] for i in range(n)])      # n x j
     W = sp.Matrix([[to_sp(v) for v in r] for r in cost]) if cost is not None else sp.eye(len(columns))
     coef = W.inv() * D.T * x                                                    # j x 1

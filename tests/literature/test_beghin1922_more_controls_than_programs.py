@@ -81,3 +81,26 @@ def test_least_force_in_the_inverse_mass_metric_is_the_ideal_reaction():
     grad = np.column_stack([plain.q[:, 0] / 2, 2 * plain.q[:, 1]])
     cross = u[:, 0] * grad[:, 1] - u[:, 1] * grad[:, 0]
     assert np.max(np.abs(cross)) > 1e-3
+
+
+def test_least_norm_controls_with_a_non_ideal_constraint_beside_them():
+    """The least-cost controls need P^T G^T, P the compliance under the other constraints; P is
+    not symmetric when another constraint is realized along a direction of its own.  Here
+    z' = x' is kept by a force along z alone, so a force along z moves nothing and the program
+    z' = c t can only be kept through x: x'' = (u1 + u2)/(sqrt(2) m) = c, the least-norm
+    controls u1 = u2 = m c/sqrt(2), y'' = 0.  (With P G^T the program's direction vanished.)"""
+    c = 0.7
+    model = Model(name="program reached through a non-ideal constraint", coordinates=["x", "y", "z"],
+                  parameters={"m": M, "c": c},
+                  kinetic="m/2*(x'^2 + y'^2 + z'^2)",
+                  constraints=[Constraint("follow", "z' - x'", "servo", reaction=("0", "0", "1")),
+                               Constraint("program", "z' - c*t", "servo",
+                                          controls=(("1/sqrt(2)", "1/sqrt(2)", "0"),
+                                                    ("1/sqrt(2)", "-1/sqrt(2)", "0")))],
+                  initial={"x": 0, "y": 0, "z": 0, "x'": 0, "y'": 0, "z'": 0},
+                  simulation={"t_end": 1.0})
+    tr = simulate(model, times=np.linspace(0, 1, 5))
+    u = tr.controls["program"]
+    assert np.max(np.abs(u["u_1"] - M * c / np.sqrt(2))) < 1e-10
+    assert np.max(np.abs(u["u_2"] - M * c / np.sqrt(2))) < 1e-10
+    assert np.allclose(tr.qdd, [[c, 0.0, c]] * 5, atol=1e-10)
