@@ -95,6 +95,17 @@ class Distribution:
     determinate: frozenset[str]
 
 
+def _solutions(B: np.ndarray, R: np.ndarray):
+    """Every solution of ``B lambda = R``: the least-norm one, a basis ``Z`` of the null space
+    (``lambda + Z w``) and which multipliers the null space moves (the indeterminate ones)."""
+    U, S, Vt = np.linalg.svd(B, full_matrices=True)
+    rank = int(np.sum(S > NULL_RTOL * max(S[0], 1e-300))) if S.size else 0
+    lam = Vt[:rank].T @ ((U[:, :rank].T @ R) / S[:rank])
+    Z = Vt[rank:].T
+    free = np.linalg.norm(Z, axis=1) > DETERMINATE_TOL if Z.size else np.zeros(B.shape[1], dtype=bool)
+    return lam, Z, free
+
+
 def best_distribution(solver, mode, layout, B: np.ndarray, R: np.ndarray, cout: dict) -> Distribution:
     """The admissible distribution of a dependent mode's multipliers with the widest margins
     (see the module docstring).
@@ -116,12 +127,7 @@ def best_distribution(solver, mode, layout, B: np.ndarray, R: np.ndarray, cout: 
     -------
     Distribution
     """
-    m = len(layout)
-    U, S, Vt = np.linalg.svd(B, full_matrices=True)
-    rank = int(np.sum(S > NULL_RTOL * max(S[0], 1e-300))) if S.size else 0
-    lam = Vt[:rank].T @ ((U[:, :rank].T @ R) / S[:rank])
-    Z = Vt[rank:].T
-    free = np.linalg.norm(Z, axis=1) > DETERMINATE_TOL if Z.size else np.zeros(m, dtype=bool)
+    lam, Z, free = _solutions(B, R)
     determinate = frozenset(r.name for r, f in zip(layout, free) if not f)
     linear, cones = _conditions(solver, mode, layout, lam, cout, free)
     if not free.any() or not (linear or cones):
@@ -170,12 +176,7 @@ def least_norm_distribution(solver, mode, layout, B: np.ndarray, R: np.ndarray, 
     -------
     ndarray, shape (m,), or None
     """
-    m = len(layout)
-    U, S, Vt = np.linalg.svd(B, full_matrices=True)
-    rank = int(np.sum(S > NULL_RTOL * max(S[0], 1e-300))) if S.size else 0
-    lam = Vt[:rank].T @ ((U[:, :rank].T @ R) / S[:rank])
-    Z = Vt[rank:].T
-    free = np.linalg.norm(Z, axis=1) > DETERMINATE_TOL if Z.size else np.zeros(m, dtype=bool)
+    lam, Z, free = _solutions(B, R)
     if not free.any():
         return lam
     linear, cones = _conditions(solver, mode, layout, lam, cout, free)
@@ -426,12 +427,7 @@ def admissible_ranges(solver, mode, layout, B: np.ndarray, R: np.ndarray, cout: 
     ``|F| <= mu_s N`` replaced by its inscribed polygon of *sides* sides, so that the bounds
     are attained).  ``-inf``/``inf`` where a bound does not exist.  Empty when the mode is
     determinate or has no admissible distribution."""
-    m = len(layout)
-    U, S, Vt = np.linalg.svd(B, full_matrices=True)
-    rank = int(np.sum(S > NULL_RTOL * max(S[0], 1e-300))) if S.size else 0
-    lam = Vt[:rank].T @ ((U[:, :rank].T @ R) / S[:rank])
-    Z = Vt[rank:].T
-    free = np.linalg.norm(Z, axis=1) > DETERMINATE_TOL if Z.size else np.zeros(m, dtype=bool)
+    lam, Z, free = _solutions(B, R)
     if not free.any():
         return {}
     linear, cones = _conditions(solver, mode, layout, lam, cout, free)
