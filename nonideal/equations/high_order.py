@@ -41,8 +41,8 @@ import sympy as sp
 
 from ..errors import ModelError
 from ..modeling.model import Constraint, Model
-from ..modeling.symbols import to_sp
 from .dynamics import dynamics_of
+from .servo import saddle_system
 
 __all__ = ["Extension", "ThirdOrder", "extension_of", "extended"]
 
@@ -150,22 +150,8 @@ def _extend(model: Model) -> Extension:
 def _accelerations(base: Model, D: sp.Matrix, w: list) -> list:
     """``q'' = a0 + P D w`` under the constraints of *base* (SymPy, one per coordinate)."""
     dyn = dynamics_of(base)
-    rows = dyn.rows()
-    n, m = dyn.n, len(rows)
-    K = sp.zeros(n + m, n + m)
-    rhs = sp.zeros(n + m, 1 + D.shape[1])
-    for i in range(n):
-        for j in range(n):
-            K[i, j] = to_sp(dyn.M[i, j])
-        rhs[i, 0] = to_sp(dyn.F[i])
-        for j in range(D.shape[1]):
-            rhs[i, 1 + j] = D[i, j]
-        for k, r in enumerate(rows):
-            K[i, n + k] = -to_sp(r.B[i])
-    for k, r in enumerate(rows):
-        for j in range(n):
-            K[n + k, j] = to_sp(r.G[j])
-        rhs[n + k, 0] = -to_sp(r.gamma)
+    n = dyn.n
+    K, rhs = saddle_system(dyn, dyn.rows(), [D[:, j] for j in range(D.shape[1])])
     sol = K.LUsolve(rhs)
     out = []
     for i in range(n):

@@ -46,7 +46,7 @@ import sympy as sp
 from ..errors import IndeterminateSystem, MechanicsError
 from ..modeling.symbols import to_se, to_sp
 
-__all__ = ["ServoReach", "Condition", "reach", "root_row", "least_cost_direction",
+__all__ = ["ServoReach", "Condition", "reach", "root_row", "least_cost_direction", "saddle_system",
            "shared_directions", "shared_rows", "control_rows", "directions_dependent", "MAX_EXTRA_ORDER"]
 
 MAX_EXTRA_ORDER = 4      # differentiate at most this many times beyond the acceleration level
@@ -122,18 +122,20 @@ def _numeric(expr, sub):
     return v.real if abs(v.imag) <= 1e-12 * (1 + abs(v.real)) else float("nan")
 
 
-def _saddle(dyn, others, D, sub=None):
-    """The saddle matrix of the other rows and its right-hand sides [F, D] (SymPy, or numbers
-    when *sub* is given)."""
+def saddle_system(dyn, others, columns, sub=None):
+    """The saddle matrix ``[[M, -B], [G, 0]]`` of the rows *others* and its right-hand sides
+    ``[F, d_1 .. d_j]`` (``-gamma`` below F): ``q'' = a0 + P (d_1 u_1 + ..)`` from one solve.
+    SymPy, or numbers when *sub* is given."""
     n, m = dyn.n, len(others)
     K = sp.zeros(n + m, n + m)
-    rhs = sp.zeros(n + m, 2)
+    rhs = sp.zeros(n + m, 1 + len(columns))
     conv = (lambda e: _numeric(e, sub)) if sub is not None else to_sp
     for i in range(n):
         for j in range(n):
             K[i, j] = conv(dyn.M[i, j])
         rhs[i, 0] = conv(dyn.F[i])
-        rhs[i, 1] = conv(D[i])
+        for j, d in enumerate(columns):
+            rhs[i, 1 + j] = conv(d[i])
         for k, r in enumerate(others):
             K[i, n + k] = -conv(r.B[i])
     for k, r in enumerate(others):
@@ -148,7 +150,7 @@ def _coupling_vanishes(dyn, others, G, gamma, D, rng) -> bool:
     n = dyn.n
     seen = 0
     for sub in _probe_points(dyn, rng, PROBES):
-        K, rhs = _saddle(dyn, others, D, sub)
+        K, rhs = saddle_system(dyn, others, [D], sub)
         Kn = np.array(K.tolist(), dtype=float)
         bn = np.array(rhs.tolist(), dtype=float)
         g = np.array([_numeric(x, sub) for x in G])
@@ -170,7 +172,7 @@ def _condition(dyn, others, G, gamma, D):
     """``c = G a0 + gamma`` (SymEngine), a0 the motion with the control switched off, as one
     cancelled fraction when it is small enough to cancel (explicit symbolic cost: one LU solve
     of the saddle-point system of the other rows, then a cancellation)."""
-    K, rhs = _saddle(dyn, others, D)
+    K, rhs = saddle_system(dyn, others, [D])
     sol = K.LUsolve(rhs[:, 0])
     c = sum((to_sp(g) * a for g, a in zip(G, sol[:dyn.n])), sp.Integer(0)) + to_sp(gamma)
     if sp.count_ops(c) < CANCEL_OPS:
@@ -283,7 +285,7 @@ def root_row(dyn, name: str, expr, B, rule: str, others, make_row):
     """
     from ..errors import ModelError
     lam = sp.Dummy("lambda")
-    K, rhs = _saddle(dyn, others, B)
+    K, rhs = saddle_system(dyn, others, [B])
     sol = K.LUsolve(rhs)
     n = dyn.n
     acc = [sp.cancel(sol[i, 0]) + sp.cancel(sol[i, 1]) * lam for i in range(n)]
@@ -328,7 +330,7 @@ def least_cost_direction(dyn, row, others, columns, cost):
     ``u_k = coefficients[k] * mu`` (SymEngine).  Explicit symbolic cost: one LU solve of the
     other rows' saddle-point system and the inverse of W (j x j)."""
     n = dyn.n
-    K, _ = _saddle(dyn, others, [0] * n)
+    K, _ = saddle_system(dyn, others, [])
     rhs = sp.zeros(K.shape[0], 1)
     for i in range(n):
         rhs[i, 0] = to_sp(row.G[i])
@@ -355,7 +357,7 @@ def shared_directions(dyn, rows, others, columns, weights):
     right-hand sides.
     """
     n = dyn.n
-    K, _ = _saddle(dyn, others, [0] * n)
+    K, _ = saddle_system(dyn, others, [])
     rhs = sp.zeros(K.shape[0], len(rows))
     for i in range(n):
         for k, r in enumerate(rows):
