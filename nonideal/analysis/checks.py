@@ -141,7 +141,7 @@ def check_model(model: Model) -> CheckReport:
     if problem is not None:
         raise problem
     solver = ModeSolver(kernel, params)
-    from ..modes.switching import validate_state
+    from ..modes.validation import validate_state
 
     validate_state(solver, model.t0, q, qd)  # finite terms, the contacts' friction data
     mode = select_mode(solver, model.t0, q, qd)

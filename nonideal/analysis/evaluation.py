@@ -259,7 +259,8 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
         then holds the rule and the admissible range of each of these forces, and a sticking
         contact's ``margin`` is its margin in the distribution shown.
     """
-    from ..modes.switching import select_mode, validate_state
+    from ..modes.switching import select_mode
+    from ..modes.validation import validate_state
 
     require_model(model, "evaluate")
     model = extended(model)  # third-order constraints: the forces are part of the state

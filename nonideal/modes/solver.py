@@ -446,24 +446,23 @@ class ModeSolver:
             values = np.array(values, dtype=float)
             direct = {r.name: float(v) for r, v in zip(layout, values)}
         particular = bool(layout) and self.system(mode).dependent(Gm)
+        arrays = (M, F, G, gamma, B, Gm, gm, Bm)
         if particular and distribute:
             # statically indeterminate: the admissible distribution with the widest margins; a
             # form's own multipliers are kept for the rows they determine
-            from .indeterminate import best_distribution
+            from .indeterminate import best_distribution, least_norm_distribution, row_weights
 
-            best = best_distribution(self, mode, layout, Bm, M @ qdd - F, cout)
+            R = M @ qdd - F
+            best = best_distribution(self, mode, layout, Bm, R, cout)
             values, particular = best.values, False
             direct = {k: v for k, v in direct.items() if k in best.determinate}
             if self.split[0] == "least-norm":
-                from .indeterminate import least_norm_distribution, row_weights
-
-                shown = least_norm_distribution(self, mode, layout, Bm, M @ qdd - F, cout,
+                shown = least_norm_distribution(self, mode, layout, Bm, R, cout,
                                                 row_weights(self, layout, self.split[1]))
                 if shown is not None:   # None: no admissible split (a switching instant)
-                    arrays = (M, F, G, gamma, B, Gm, gm, Bm)
                     return replace(self._packed(mode, layout, qdd, values, cout, arrays, direct, particular),
                                    shown=self._packed(mode, layout, qdd, shown, cout, arrays, direct, particular))
-        return self._packed(mode, layout, qdd, values, cout, (M, F, G, gamma, B, Gm, gm, Bm), direct, particular)
+        return self._packed(mode, layout, qdd, values, cout, arrays, direct, particular)
 
     def _packed(self, mode, layout, qdd, values, cout, arrays, direct, particular) -> Solution:
         rows = [r.index for r in layout if r.kind == "constraint"]

@@ -35,10 +35,8 @@ from .system import compliance_of
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, ContactState, Mode
 from .solver import ModeSolver
 from ..numeric.kernel import SingularMatrix, max_abs, solve_saddle
-from .validation import validate_contacts, validate_state  # noqa: F401 - where callers find them
 
-__all__ = ["select_mode", "impact", "effective_compliance", "critical_friction", "MAX_COMBINATIONS",
-           "validate_contacts", "validate_state"]
+__all__ = ["select_mode", "impact", "effective_compliance", "critical_friction", "MAX_COMBINATIONS"]
 
 MAX_COMBINATIONS = 4096
 

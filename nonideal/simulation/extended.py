@@ -12,6 +12,7 @@ import symengine as se
 from scipy.integrate import cumulative_simpson
 
 from ..modeling.symbols import to_se
+from ..numeric.kernel import parameter_vector
 from .trajectory import Trajectory
 
 __all__ = ["reduce"]
@@ -30,9 +31,7 @@ def _direction(ext, spec, traj: Trajectory, n: int, parameters=None) -> np.ndarr
     args = [se.Symbol("t")] + [to_se(s) for s in model.q] + [to_se(s) for s in model.qd] \
         + [se.Symbol(p) for p in model.parameters]
     fn = se.Lambdify(args, [to_se(b) for b in spec.B])
-    values = {k: float(p.value) for k, p in model.parameters.items()}
-    values.update(parameters or {})
-    pv = [float(values[k]) for k in model.parameters]
+    pv = parameter_vector(model, parameters)
     return np.array([np.asarray(fn([t, *q, *qd, *pv]), dtype=float).ravel()
                      for t, q, qd in zip(traj.t, traj.q[:, :n], traj.qd[:, :n])]).reshape(len(traj.t), n)
 

@@ -33,7 +33,8 @@ from ..modes.motion import Motion
 from ..modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
 from ..modes.solver import ModeSolver
 from ..numeric.kernel import kernel_of, max_abs, parameter_vector
-from ..modes.switching import impact, select_mode, validate_state
+from ..modes.switching import impact, select_mode
+from ..modes.validation import validate_state
 from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
 from .guards import Step, event_hits
 from .singular import BRANCHES, JUMP_FROM, SINGULAR, Regularity, explain_stall
@@ -407,7 +408,7 @@ class Simulation:
             while not restart:
                 message = ode.step()
                 if ode.status == "failed":
-                    self._explain_failure(ode, mode)
+                    explain_stall(self, ode, mode)
                     raise IntegrationFailed(ode.t, mode.label(), message or "step failed",
                                             None if model.source == "<api>" else model.source)
                 t_old, t_new = ode.t_old, ode.t
@@ -417,7 +418,7 @@ class Simulation:
                 budget.step(t_new)  # refuses a run that cannot finish
                 tiny = tiny + 1 if h < 1e-9 * min(t_end - t0, 1.0) + 4e-16 * abs(t_new) else 0
                 if tiny > 2000:
-                    self._explain_failure(ode, mode)
+                    explain_stall(self, ode, mode)
                     raise IntegrationFailed(
                         t_new, mode.label(), "the step size collapsed below 1e-9 of the time span (or of 1) for "
                         "2000 steps: the right-hand side is not smooth here (a nonlinear constraint at "
@@ -550,9 +551,6 @@ class Simulation:
         if solver.charts is not None:
             diagnostics["chart_changes"] = solver.charts.changes - changes
         return Trajectory.from_samples(self, samples, events_log, diagnostics, residual_max)
-
-    def _explain_failure(self, ode, mode: Mode) -> None:
-        explain_stall(self, ode, mode)
 
 
 def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | None = None,
