@@ -448,7 +448,7 @@ def speed_of(slip) -> np.ndarray:
 
 def bench_regularized(model, eps_list, methods, repeat: int) -> list[dict]:
     import nonideal
-    from nonideal.analysis.realizability import regularized
+    from nonideal.analysis.contact.realizability import regularized
 
     out = []
     grid = np.linspace(0.0, T_END, 2001)
@@ -848,7 +848,7 @@ def head_to_head(model, mj, key: str, rounds: int, mj_configs) -> dict:
     pays for the caches the other one took (measured: ~0.4 ms of a 2.5 ms run of ours after
     a MuJoCo rollout) -- a user runs one simulator at a time."""
     import nonideal
-    from nonideal.analysis.realizability import regularized
+    from nonideal.analysis.contact.realizability import regularized
 
     case = CASES[key]
     init = initial_of(case)

@@ -30,7 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # this checkout
 import _common as C  # noqa: E402
 import peers  # noqa: E402
 
-from nonideal.analysis.linearize import linearize  # noqa: E402
+from nonideal.analysis.stability.linearize import linearize  # noqa: E402
 from nonideal.gallery.knife_chain import build  # noqa: E402
 
 V = 1.0           # speed of the rear end along x

@@ -14,7 +14,7 @@ Measured side by side in one process (the CLI loop in subprocesses, as a user wo
 2. **API loop** -- the loop a user writes in Python: per point ``load_model(path,
    parameters=...)`` and ``simulate(model)`` (a new model object per point: derived and
    compiled again each time), a few hundred points timed;
-3. **sweep** -- ``nonideal.analysis.sweep.sweep(path, axes, "simulate", workers=N)``: the model
+3. **sweep** -- ``nonideal.analysis.studies.sweep.sweep(path, axes, "simulate", workers=N)``: the model
    derived and compiled once per worker, each point one simulation with its numbers; all
    points, on ``N = os.cpu_count()`` local processes and on one;
 4. **Dask** -- the same sweep through a ``distributed.LocalCluster`` (the ``--scheduler`` path)
@@ -41,7 +41,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(ROOT))
 
-from nonideal.analysis.sweep import Axis, sweep  # noqa: E402
+from nonideal.analysis.studies.sweep import Axis, sweep  # noqa: E402
 from nonideal.modeling.modelfile import load_model  # noqa: E402
 from nonideal.simulation.hybrid import simulate  # noqa: E402
 
@@ -98,7 +98,7 @@ def main(argv=None) -> dict:
     args = ap.parse_args(argv)
     n_mu, n_r = (50, 20) if args.quick else (100, 100)
     axes = axes_for(n_mu, n_r)
-    from nonideal.analysis.sweep import grid
+    from nonideal.analysis.studies.sweep import grid
 
     points = grid(axes)
     rng = np.random.default_rng(1)

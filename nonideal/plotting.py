@@ -215,13 +215,13 @@ def _sweep_default(result) -> str:
 
 
 def plot_sweep(result, path, quantity: str | None = None) -> None:
-    """A quantity of a sweep (:class:`~nonideal.analysis.sweep.SweepResult`) against its one
+    """A quantity of a sweep (:class:`~nonideal.analysis.studies.sweep.SweepResult`) against its one
     varied parameter, or as a map over two (the first on the horizontal axis).
 
     *quantity* is a column of the sweep's CSV (``q.x``, ``margin``, ``events.count``,
     ``exit_code``...); text values (the type of the first event, a verdict) are drawn as
     categories.  Failed points (exit code != 0) are marked with their exit code."""
-    from .analysis.sweep import flatten
+    from .analysis.studies.sweep import flatten
 
     quantity = quantity or _sweep_default(result)
     flat = [flatten(r) for r in result.rows]

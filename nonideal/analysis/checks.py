@@ -20,7 +20,7 @@ from ..modes.diagnosis import diagnose_state
 from ..modes.solver import ModeSolver
 from ..modes.switching import select_mode
 from ..numeric.kernel import kernel_of, parameter_vector
-from .statics import servo_equilibrium
+from .contact.statics import servo_equilibrium
 
 __all__ = ["CheckReport", "check_model"]
 

@@ -67,12 +67,12 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
                              "friction= options do not apply to it")
         return _symbolic(model, form, rows, independent, branch)
     if friction == "painleve":
-        from .friction_law import painleve_model, touching_contacts
+        from .contact.friction_law import painleve_model, touching_contacts
 
         closed = touching_contacts(model, dict(contacts or {})) if model.contacts else None
         return _symbolic(painleve_model(model, closed)[0], form, None, independent, branch)
     if model.contacts:
-        from .friction_law import derive_in_mode
+        from .contact.friction_law import derive_in_mode
 
         return derive_in_mode(model, form, dict(contacts or {}), independent)
     if contacts:

@@ -27,7 +27,7 @@ def add_parser(sub, ctx) -> None:
 
 
 def run(args) -> int:
-    from ..analysis.friction_law import friction_law
+    from ..analysis.contact.friction_law import friction_law
 
     check_options(args)
     model = load_spec(args.model, args.set)

@@ -24,7 +24,7 @@ def add_parser(sub, ctx) -> None:
 
 
 def run(args) -> int:
-    from ..analysis.realizability import realizability, realizability_along
+    from ..analysis.contact.realizability import realizability, realizability_along
 
     check_options(args)
     if args.t_end is not None and not args.along:

@@ -148,7 +148,7 @@ def _actuator_heat(model, traj, form, options) -> dict | None:
         return None
     import numpy as np
 
-    from ..analysis.quasi_ideal import HEAT_SAMPLES, actuator_heat
+    from ..analysis.studies.quasi_ideal import HEAT_SAMPLES, actuator_heat
     from ..simulation.hybrid import simulate
 
     dense = simulate(model, t_end=traj.t[-1], times=np.linspace(traj.t[0], traj.t[-1], HEAT_SAMPLES),

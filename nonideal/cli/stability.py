@@ -54,14 +54,14 @@ def run(args) -> int:
     model = load_spec(args.model, args.set)
     outputs = Outputs()
     if args.about == "program":
-        from ..analysis.program import linearize_program
+        from ..analysis.stability.program import linearize_program
 
         result = linearize_program(model, controls=_names(args.controls), t_end=args.t_end,
                                    keep=_names(args.keep))
         payload = result.to_dict()
         text = result.as_text()
         if args.lqr:
-            from ..analysis.control import program_lqr, weights
+            from ..analysis.stability.control import program_lqr, weights
 
             if not result.controls:
                 raise ModelError("--lqr: needs --controls (the parameters that act as inputs)")
@@ -75,14 +75,14 @@ def run(args) -> int:
     else:
         if args.t_end is not None:
             raise ModelError("--t-end: only for --about program (the programmed motion followed)")
-        from ..analysis.linearize import linearize
+        from ..analysis.stability.linearize import linearize
 
         lin = linearize(model, about=args.about, at=args.at, symbolic=_names(args.symbolic),
                         controls=_names(args.controls), keep=_names(args.keep), exact=args.exact)
         payload = lin.to_dict()
         text = lin.as_text()
         if args.lqr:
-            from ..analysis.control import lqr, weights
+            from ..analysis.stability.control import lqr, weights
 
             if not lin.controls:
                 raise ModelError("--lqr: needs --controls (the parameters that act as inputs)")
@@ -137,8 +137,8 @@ def _locus(args) -> dict:
     eigenvalues, or its error message."""
     import itertools
 
-    from ..analysis.linearize import linearize
-    from ..analysis.program import linearize_program
+    from ..analysis.stability.linearize import linearize
+    from ..analysis.stability.program import linearize_program
     from ..errors import NonidealError
 
     ranges = _ranges(args.vary)

@@ -21,7 +21,7 @@ JOURNAL_SUFFIX = ".journal"
 
 
 def add_parser(sub, ctx) -> None:
-    from ..analysis.sweep import WHATS
+    from ..analysis.studies.sweep import WHATS
 
     s = sub.add_parser(
         "sweep", help="a command's summary over a grid of parameter values",
@@ -156,7 +156,7 @@ class _Progress:
 
 
 def run(args) -> int:
-    from ..analysis.sweep import parse_vary, sweep, SweepTask
+    from ..analysis.studies.sweep import parse_vary, sweep, SweepTask
 
     check_options(args)
     if not args.vary:

@@ -353,7 +353,7 @@ def painleve_representation(count=8) -> float:
     non-ideal rows kept by every form."""
     from ..analysis.evaluation import evaluate
     from ..equations.formalisms import FORMS
-    from ..analysis.friction_law import painleve_model
+    from ..analysis.contact.friction_law import painleve_model
 
     model = build(f_A=0.2, f_B=0.45, top=False)
     p = model.parameter_values

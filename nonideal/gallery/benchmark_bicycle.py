@@ -338,10 +338,10 @@ def steady_motion(model: Model, v: float) -> dict:
 
 def linearization(model: Model, v: float, controls=("Tphi", "Tdelta")):
     """The library's first approximation about upright running at speed *v*
-    (:func:`nonideal.analysis.linearize.linearize`, ``about="steady"``): perturbation variables
+    (:func:`nonideal.analysis.stability.linearize.linearize`, ``about="steady"``): perturbation variables
     (phi, delta, phi', delta'), the cyclic coordinates and the held speed named; with the
     torques as controls, ``B = [0; M^-1]``."""
-    from ..analysis.linearize import linearize
+    from ..analysis.stability.linearize import linearize
 
     return linearize(model, about="steady", at=steady_motion(model, v), controls=controls)
 

@@ -74,7 +74,7 @@ def run(verbose: bool = True) -> dict:
     import sympy as sp
     from scipy.linalg import expm
 
-    from ..analysis.linearize import linearize
+    from ..analysis.stability.linearize import linearize
     from ..errors import LinearizationUndefined
     from ..simulation import simulate
 

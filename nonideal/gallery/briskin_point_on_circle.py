@@ -17,7 +17,7 @@ Derivation.  On the circle the radial equation gives ``R_r = F sin(gamma) - m r0
     B = F cos(gamma) / (m r0) - beta F sin(gamma) / (m r0^2)                   (3.13)-(3.14)
 
 a Riccati equation with constant coefficients whose regime -- blow-up in finite time, a limit
-angular velocity, linear growth -- is what :func:`nonideal.analysis.riccati.riccati_regime`
+angular velocity, linear growth -- is what :func:`nonideal.analysis.stability.riccati.riccati_regime`
 reports (case numbers of the paper: 1 tan (3.15), 2 ``B = 0`` (3.16), 3 tanh (3.17),
 4 ``A = 0``), with the exact ``omega(t)`` and the blow-up time.  The reactions' work is
 ``int R_phi omega dt = m r0^2 omega^2/2 - F r0 cos(gamma) phi`` (energy balance; ``R_r`` does
@@ -84,7 +84,7 @@ def riccati_coefficients(p: dict) -> tuple[float, float]:
 
 def regime(model: Model):
     """The library's classification of the motion of *model* (a :class:`RiccatiRegime`)."""
-    from ..analysis.riccati import riccati_regime
+    from ..analysis.stability.riccati import riccati_regime
 
     p = model.parameter_values
     return riccati_regime(*riccati_coefficients(p), p["omega0"])

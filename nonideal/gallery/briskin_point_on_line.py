@@ -37,7 +37,7 @@ Criterion (3.10) ``I = |A| + chi W`` over (alpha, beta).  ``R`` depends on (alph
 through one number, ``u = R_x`` (``R_y = G - k u`` keeps the point on the line), so ``I`` is a
 function of ``u`` alone and its minima over (alpha, beta) are curves, not points: the optimum
 is a reaction direction.  :func:`optimum_closed_form` minimizes ``I(u)`` (a quadratic on each
-side of the zeros of ``A``); :func:`~nonideal.analysis.quasi_ideal.minimize_criterion`
+side of the zeros of ``A``); :func:`~nonideal.analysis.studies.quasi_ideal.minimize_criterion`
 (a sweep, then Nelder-Mead) must reach the same value.  With ``mu_x = mu_y`` the ideal
 reaction is optimal (``A = 0`` and the least heat); with unequal losses it is not.
 
@@ -123,7 +123,7 @@ def optimum_closed_form(p: dict, tau: float, chi: float = 1.0) -> dict:
 def check(model: Model, tau: float = 1.0) -> dict:
     """Evaluate and simulate *model*; compare with the closed form (relative errors)."""
     from ..analysis.evaluation import evaluate
-    from ..analysis.quasi_ideal import design_measures
+    from ..analysis.studies.quasi_ideal import design_measures
 
     p = model.parameter_values
     cf = closed_form(p, tau)
@@ -151,8 +151,8 @@ def check(model: Model, tau: float = 1.0) -> dict:
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..analysis.design import minimize_criterion
-    from ..analysis.sweep import parse_vary, sweep
+    from ..analysis.studies.design import minimize_criterion
+    from ..analysis.studies.sweep import parse_vary, sweep
     from ..modeling.modelfile import load_model
 
     path = gallery.model_path(NAME)

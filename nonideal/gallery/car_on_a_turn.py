@@ -337,7 +337,7 @@ def circumradius(P: np.ndarray) -> float:
 
 def run(verbose: bool = True) -> dict:
     from .. import gallery
-    from ..analysis.realizability import realizability_along
+    from ..analysis.contact.realizability import realizability_along
     from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)

@@ -126,7 +126,7 @@ def regularized_motion(t, p: dict, eps: float):
 def regularization_error(p: dict, eps: float, times) -> dict:
     """Simulate the regularized model (Radau) and compare with the rolling and the exact
     regularized solutions."""
-    from ..analysis.realizability import regularized
+    from ..analysis.contact.realizability import regularized
     from ..simulation.hybrid import simulate
 
     model = build(**p)
@@ -145,7 +145,7 @@ def regularization_error(p: dict, eps: float, times) -> dict:
 def run(verbose: bool = True) -> dict:
     from .. import gallery
     from ..analysis.crosscheck import compare_forms
-    from ..analysis.realizability import realizability, realizability_along
+    from ..analysis.contact.realizability import realizability, realizability_along
     from ..simulation.hybrid import simulate
 
     model = gallery.load(NAME)

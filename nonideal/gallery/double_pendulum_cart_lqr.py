@@ -47,8 +47,8 @@ def build(mc: float = 1.0, m1: float = 0.5, m2: float = 0.5, l1: float = 0.6, l2
 def run(verbose: bool = True) -> dict:
     from scipy.linalg import expm, solve_continuous_are
 
-    from ..analysis.control import lqr, simulate_closed_loop
-    from ..analysis.linearize import linearize
+    from ..analysis.stability.control import lqr, simulate_closed_loop
+    from ..analysis.stability.linearize import linearize
     from . import load
 
     model = load(NAME)

@@ -87,7 +87,7 @@ def hurwitz(coeffs) -> list[float]:
 def run(verbose: bool = True) -> dict:
     import sympy as sp
 
-    from ..analysis.linearize import linearize
+    from ..analysis.stability.linearize import linearize
     from . import load
 
     lin = linearize(load(NAME), about="steady", at={"phi1'": DEFAULTS["omega0"]})

@@ -70,7 +70,7 @@ def time_of(rho, p: dict, rho0: float = RHO0):
 
 
 def run(verbose: bool = True) -> dict:
-    from ..analysis.program import linearize_program
+    from ..analysis.stability.program import linearize_program
     from ..simulation import simulate
     from . import load
 

@@ -83,8 +83,8 @@ def closed_forms(t, p=DEFAULTS):
 
 
 def run(verbose: bool = True) -> dict:
-    from ..analysis.control import program_lqr
-    from ..analysis.program import linearize_program
+    from ..analysis.stability.control import program_lqr
+    from ..analysis.stability.program import linearize_program
     from . import load
 
     prog = linearize_program(load(NAME), controls=["u1"], samples=161)

@@ -81,7 +81,7 @@ def linear_vs_nonlinear(model, lin, W: float, eps: float = 1e-5, t_end: float = 
 
 
 def run(verbose: bool = True) -> dict:
-    from ..analysis.linearize import linearize
+    from ..analysis.stability.linearize import linearize
     from . import load
 
     model = load(NAME)

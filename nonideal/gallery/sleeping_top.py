@@ -69,7 +69,7 @@ def critical_spin(m=1.0, A=0.02, C=0.03, l=0.1, g=9.81) -> float:
 def run(verbose: bool = True) -> dict:
     import sympy as sp
 
-    from ..analysis.linearize import linearize
+    from ..analysis.stability.linearize import linearize
     from . import load
 
     model = load(NAME)

@@ -68,7 +68,7 @@ def critical_J(m, l, n, g, b, J, k, F) -> float:
 def run(verbose: bool = True) -> dict:
     import sympy as sp
 
-    from ..analysis.linearize import linearize
+    from ..analysis.stability.linearize import linearize
     from . import load
 
     model = load(NAME)

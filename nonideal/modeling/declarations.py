@@ -64,7 +64,7 @@ class Constraint:
     losses : sequence of n_q expressions in the parameters, optional
         Heat loss coefficients ``mu_j`` of the drives that produce the generalized reaction
         components ``R_j``: they lose ``sum_j mu_j R_j^2`` per unit time (Briskin et al.
-        2021, (3.7); :func:`nonideal.analysis.quasi_ideal.actuator_heat`).
+        2021, (3.7); :func:`nonideal.analysis.studies.quasi_ideal.actuator_heat`).
     root : {"largest", "smallest"}, optional
         A second-order constraint nonlinear in the accelerations (with ``reaction``): which
         root of its multiplier (default ``"largest"``).

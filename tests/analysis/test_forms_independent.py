@@ -9,7 +9,7 @@ import pytest
 from nonideal import Constraint, FormNotApplicable, Model, ModelError
 from nonideal.analysis.derivation import derive
 from nonideal.analysis.evaluation import evaluate
-from nonideal.analysis.linearize import linearize
+from nonideal.analysis.stability.linearize import linearize
 
 
 def sleigh(independent=None, swap=False):

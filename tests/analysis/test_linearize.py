@@ -6,7 +6,7 @@ import pytest
 import sympy as sp
 from scipy.linalg import expm
 
-from nonideal.analysis.linearize import linearize
+from nonideal.analysis.stability.linearize import linearize
 from nonideal.errors import LinearizationUndefined, ModelError, NotAnEquilibrium
 from nonideal.modeling.bodies import Particle
 from nonideal.modeling.model import Constraint, Model
@@ -112,7 +112,7 @@ def test_a_given_dependent_velocity_is_not_silently_replaced():
     x' = 9 while the constraints give x' = r phi' cos(psi) is refused, naming the velocity and
     the independent ones -- it must never be linearized about another state."""
     from nonideal import ModelError, gallery
-    from nonideal.analysis.linearize import linearize
+    from nonideal.analysis.stability.linearize import linearize
 
     model = gallery.load("rolling-disk")
     with pytest.raises(ModelError, match=r"x' = 9 cannot be held.*psi', theta', phi'"):

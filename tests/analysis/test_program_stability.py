@@ -4,7 +4,7 @@ from the fundamental matrix / Persidsky's bound, the time-varying controllabilit
 import numpy as np
 import pytest
 
-from nonideal.analysis.program import linearize_program
+from nonideal.analysis.stability.program import linearize_program
 from nonideal.modeling.model import Constraint, Model
 
 K, B_, V = 4.0, 0.5, 0.8

@@ -4,7 +4,7 @@ motion (the rod's end A slides back at t0); a contact at rest sticks (the disk),
 noise is printed as 0."""
 
 import nonideal
-from nonideal.analysis.realizability import realizability
+from nonideal.analysis.contact.realizability import realizability
 from tests.helpers import DATA_DIR, run_cli
 
 ROD = DATA_DIR.parent.parent / "docs" / "rod.toml"

@@ -8,7 +8,7 @@ load with it)."""
 import numpy as np
 import pytest
 
-from nonideal.analysis.realizability import realizability
+from nonideal.analysis.contact.realizability import realizability
 from nonideal.modeling.modelfile import load_model
 from nonideal.simulation.hybrid import simulate
 from tests.helpers import DATA_DIR

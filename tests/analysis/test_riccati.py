@@ -1,4 +1,4 @@
-"""The Riccati classifier (nonideal.analysis.riccati): every case and sign against a numerical
+"""The Riccati classifier (nonideal.analysis.stability.riccati): every case and sign against a numerical
 solution, the blow-up times, the limits."""
 
 import math
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from nonideal.analysis.riccati import riccati_regime
+from nonideal.analysis.stability.riccati import riccati_regime
 
 CASES = [  # A, B, omega0, case, behaviour
     (0.5, 0.35, 0.0, 1, "blow-up"), (-0.4, -0.2, 0.5, 1, "blow-up"),

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from nonideal.analysis.checks import check_model
-from nonideal.analysis.statics import servo_equilibrium
+from nonideal.analysis.contact.statics import servo_equilibrium
 from nonideal.modeling.model import Constraint, Model
 
 

@@ -1,4 +1,4 @@
-"""Parameter sweeps (nonideal.analysis.sweep): the grid, the rows against closed forms and
+"""Parameter sweeps (nonideal.analysis.studies.sweep): the grid, the rows against closed forms and
 against single runs, failing points, derived parameters, resumed sweeps, parallel workers and
 a Dask LocalCluster giving the same rows."""
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from nonideal import gallery
-from nonideal.analysis.sweep import (Axis, PointRunner, SweepTask, flatten, grid, parse_vary,
+from nonideal.analysis.studies.sweep import (Axis, PointRunner, SweepTask, flatten, grid, parse_vary,
                                      point_key, sweep)
 from nonideal.errors import ModelError
 from nonideal.gallery.block_on_incline import closed_form

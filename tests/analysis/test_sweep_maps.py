@@ -8,7 +8,7 @@ import math
 import pytest
 
 from nonideal import gallery
-from nonideal.analysis.sweep import parse_vary, sweep
+from nonideal.analysis.studies.sweep import parse_vary, sweep
 from nonideal.gallery.painleve_rod import critical_mu
 from tests.helpers import run_cli
 

@@ -5,7 +5,7 @@ the rounding; the verdict must read it as a zero (Lyapunov's critical case), not
 import numpy as np
 import pytest
 
-from nonideal.analysis.routh import analyse, zero_cluster
+from nonideal.analysis.stability.routh import analyse, zero_cluster
 
 
 def _blocks(*blocks):
@@ -61,7 +61,7 @@ def test_benchmark_bicycle_without_independent_coordinates_is_critical_not_unsta
     shifted sideways and turned) was computed as +-5e-7 and read as unstable.  It is one zero
     eigenvalue of a family; the other four are the roll/steer eigenvalues of the paper."""
     from nonideal import gallery
-    from nonideal.analysis.linearize import linearize
+    from nonideal.analysis.stability.linearize import linearize
     from nonideal.gallery import benchmark_bicycle as bb
 
     model = gallery.load("benchmark-bicycle")

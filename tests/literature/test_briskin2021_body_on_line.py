@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from nonideal import gallery
-from nonideal.analysis.linearize import linearize
+from nonideal.analysis.stability.linearize import linearize
 from nonideal.errors import LinearizationUndefined
 
 MOD = gallery.module("briskin-body-on-line")

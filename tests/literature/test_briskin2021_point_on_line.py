@@ -8,7 +8,7 @@ import pytest
 
 from nonideal import gallery
 from nonideal.analysis.evaluation import evaluate
-from nonideal.analysis.quasi_ideal import actuator_heat, criterion, design_measures
+from nonideal.analysis.studies.quasi_ideal import actuator_heat, criterion, design_measures
 from nonideal.errors import ModelError
 from nonideal.gallery.briskin_point_on_line import (build, closed_form, criterion_of_u,
                                                     optimum_closed_form)
@@ -101,8 +101,8 @@ def test_criterion_depends_on_the_reaction_direction_only():
 
 @pytest.mark.slow
 def test_minimum_of_the_criterion_3_10():
-    from nonideal.analysis.design import minimize_criterion
-    from nonideal.analysis.sweep import parse_vary
+    from nonideal.analysis.studies.design import minimize_criterion
+    from nonideal.analysis.studies.sweep import parse_vary
 
     p = {**load_model(PATH).parameter_values, "mu_x": 0.2}
     exact = optimum_closed_form(p, 1.0)

@@ -16,7 +16,7 @@ from nonideal.gallery.disk_rolling_torque import (
     regularized_motion,
     t_loss,
 )
-from nonideal.analysis.realizability import realizability, realizability_along
+from nonideal.analysis.contact.realizability import realizability, realizability_along
 from tests.helpers import run_cli as _cli
 
 # m = 2, R = 0.3, I = m R^2/2 = 0.09, I + m R^2 = 0.27, c = 2, mu = mu_s = 0.3, g = 9.81

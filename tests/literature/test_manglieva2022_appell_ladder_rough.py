@@ -14,7 +14,7 @@ from nonideal import gallery, simulate
 from nonideal.analysis.crosscheck import compare_forms
 from nonideal.errors import FormNotApplicable
 from nonideal.analysis.evaluation import evaluate
-from nonideal.analysis.friction_law import painleve_model, touching_contacts
+from nonideal.analysis.contact.friction_law import painleve_model, touching_contacts
 from nonideal.gallery.appell_ladder_rough import (
     alpha_dd_1_106,
     alpha_limit,

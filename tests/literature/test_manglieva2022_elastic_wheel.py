@@ -6,7 +6,7 @@ import numpy as np
 import sympy as sp
 
 from nonideal import gallery
-from nonideal.analysis.linearize import linearize
+from nonideal.analysis.stability.linearize import linearize
 
 MOD = gallery.module("regulator-elastic-wheel")
 

@@ -21,7 +21,7 @@ import sympy as sp
 from nonideal import gallery, simulate
 from nonideal.analysis.crosscheck import compare_forms
 from nonideal.analysis.evaluation import evaluate
-from nonideal.analysis.friction_law import friction_law, painleve_model
+from nonideal.analysis.contact.friction_law import friction_law, painleve_model
 from nonideal.analysis.derivation import derive
 
 

@@ -12,7 +12,7 @@ import pytest
 
 from nonideal import gallery, simulate
 from nonideal.analysis.crosscheck import compare_forms
-from nonideal.analysis.friction_law import friction_law
+from nonideal.analysis.contact.friction_law import friction_law
 from nonideal.gallery.painleve_conditional_constraint import angle, multipliers
 from nonideal.gallery.painleve_conditional_constraint_rough import (
     KEYS,

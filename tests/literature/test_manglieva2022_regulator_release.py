@@ -6,8 +6,8 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from nonideal import gallery
-from nonideal.analysis.control import program_lqr
-from nonideal.analysis.program import linearize_program
+from nonideal.analysis.stability.control import program_lqr
+from nonideal.analysis.stability.program import linearize_program
 
 MOD = gallery.module("regulator-release")
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from nonideal import gallery
-from nonideal.analysis.program import linearize_program
+from nonideal.analysis.stability.program import linearize_program
 
 MOD = gallery.module("regulator-persidsky")
 

@@ -7,8 +7,8 @@ import pytest
 import sympy as sp
 
 from nonideal import gallery
-from nonideal.analysis.control import lqr, simulate_closed_loop
-from nonideal.analysis.linearize import linearize
+from nonideal.analysis.stability.control import lqr, simulate_closed_loop
+from nonideal.analysis.stability.linearize import linearize
 
 
 def _match(eigs, ref, tol):

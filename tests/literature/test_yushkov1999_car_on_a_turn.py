@@ -27,7 +27,7 @@ from nonideal.gallery.car_on_a_turn import (
 from nonideal.modes.types import ContactState, Mode
 from nonideal.modes.solver import ModeSolver
 from nonideal.numeric.kernel import kernel_of, parameter_vector
-from nonideal.analysis.realizability import realizability_along
+from nonideal.analysis.contact.realizability import realizability_along
 from tests.helpers import run_cli as _cli
 
 FORCE_TIMES = [0.2, 0.5, 1.0, 2.0, 4.0, 6.5]

@@ -10,7 +10,7 @@ import pytest
 
 from nonideal import ModelError, gallery, simulate
 from nonideal.analysis.evaluation import evaluate
-from nonideal.analysis.realizability import realizability
+from nonideal.analysis.contact.realizability import realizability
 from nonideal.modeling.contacts import Contact, Coulomb, IdealRolling
 from nonideal.modeling.model import Model
 from nonideal.modeling.modelfile import load_model

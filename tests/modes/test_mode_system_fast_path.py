@@ -25,7 +25,7 @@ from nonideal.modeling.model import Constraint, Model
 from nonideal.modes.system import ModeFunction
 from nonideal.modes.types import SEPARATED, SLIDE, SMOOTH, STICK, ContactState, Mode
 from nonideal.numeric.kernel import SingularMatrix
-from nonideal.analysis.realizability import regularized
+from nonideal.analysis.contact.realizability import regularized
 from nonideal.simulation.hybrid import WORK_ATOL, Simulation
 from nonideal.simulation.rhs import general_rhs
 from nonideal.modes.switching import effective_compliance

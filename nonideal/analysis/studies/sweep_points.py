@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Mapping, Sequence
 
-from ..errors import ModelError, NonidealError
+from ...errors import ModelError, NonidealError
 
 __all__ = ["SweepTask", "PointRunner", "runner_for", "run_chunk", "simulation_summary", "WHATS",
            "stability_available", "STABILITY_MISSING"]
@@ -89,7 +89,7 @@ class PointRunner:
     """
 
     def __init__(self, task: SweepTask):
-        from ..modeling.modelfile import load_model
+        from ...modeling.modelfile import load_model
 
         self.task = task
         self.what = task.what
@@ -114,7 +114,7 @@ class PointRunner:
         if self._raw is None:
             import tomllib
 
-            from ..modeling.limits import read_text
+            from ...modeling.limits import read_text
 
             data = tomllib.loads(read_text(self.path).removeprefix("\ufeff"))
             self._raw = data
@@ -122,8 +122,8 @@ class PointRunner:
 
     def values(self, point: Mapping[str, float]) -> dict[str, float]:
         """Every parameter's value at *point* (derived parameters re-evaluated)."""
-        from ..modeling.model import resolve_parameters
-        from ..modeling.modelfile import override_parameters
+        from ...modeling.model import resolve_parameters
+        from ...modeling.modelfile import override_parameters
 
         data = override_parameters(self._raw_parameters(), {**self.settings, **point},
                                    str(self.path))
@@ -153,7 +153,7 @@ class PointRunner:
         point must equal the base model up to its parameter values."""
         hit = self._fast.get(names)
         if hit is None:
-            from ..modeling.modelfile import load_model
+            from ...modeling.modelfile import load_model
 
             base = self.values({})
             probe = {n: repr(base[n] * 1.2345678901 + 0.3141592653) for n in names}
@@ -179,7 +179,7 @@ class PointRunner:
         return {"parameters": dict(point), "exit_code": 0, "message": "ok", "summary": summary}
 
     def _summary(self, point: Mapping[str, float]) -> dict:
-        from ..modeling.modelfile import load_model
+        from ...modeling.modelfile import load_model
 
         names = tuple(sorted(point))
         if self.fast(names):
@@ -193,7 +193,7 @@ class PointRunner:
         return getattr(self, "_" + self.what)(model, values, initial)
 
     def _simulate(self, model, values, initial) -> dict:
-        from ..simulation.hybrid import simulate
+        from ...simulation.hybrid import simulate
 
         opts = {k: self.options[k] for k in ("rtol", "atol", "method") if k in self.options}
         t_end = self.options.get("t_end")
@@ -221,7 +221,7 @@ class PointRunner:
         return at or None
 
     def _evaluate(self, model, values, initial) -> dict:
-        from .evaluation import evaluate
+        from ..evaluation import evaluate
 
         ev = evaluate(model, at=self._state(initial), form=self.options.get("form", "lagrange1"),
                       parameters=values)
@@ -233,7 +233,7 @@ class PointRunner:
         return out
 
     def _realizability(self, model, values, initial) -> dict:
-        from .realizability import realizability
+        from ..contact.realizability import realizability
 
         report = realizability(model, at=self._state(initial), parameters=values)
         margins = {name: c.margin for name, c in report.contacts.items()}
@@ -241,10 +241,10 @@ class PointRunner:
                 "realizable": report.realizable, "margins": margins}
 
     def _check(self, model, values, initial) -> dict:
-        from .checks import check_model
+        from ..checks import check_model
 
         if values is not None:   # check the point's own model: its numbers matter here
-            from ..modeling.modelfile import load_model
+            from ...modeling.modelfile import load_model
 
             model = load_model(self.path, parameters={**self.settings, **{
                 k: repr(float(v)) for k, v in values.items() if k in model.parameters}})
@@ -253,8 +253,8 @@ class PointRunner:
                 "initial_mode": d["initial_mode"]}
 
     def _stability(self, model, values, initial) -> dict:
-        from ..modeling.modelfile import load_model
-        from .linearize import linearize
+        from ...modeling.modelfile import load_model
+        from ..stability.linearize import linearize
 
         if values is not None:   # the linearization is symbolic: the point's own model
             model = load_model(self.path, parameters={**self.settings, **{
@@ -272,10 +272,10 @@ STABILITY_MISSING = ("sweep --what stability: the stability analysis is not avai
 
 
 def stability_available() -> bool:
-    """Whether ``--what stability`` can run (:mod:`nonideal.analysis.linearize`)."""
+    """Whether ``--what stability`` can run (:mod:`nonideal.analysis.stability.linearize`)."""
     import importlib.util
 
-    return importlib.util.find_spec(f"{__package__}.linearize") is not None
+    return importlib.util.find_spec("nonideal.analysis.stability.linearize") is not None
 
 
 def simulation_summary(traj) -> dict:

@@ -31,12 +31,12 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..equations.dynamics import Dynamics, dynamics_of
-from ..equations.formalisms.base import reduce_velocities
-from ..errors import FormNotApplicable, did_you_mean
-from ..modeling.contacts import IdealRolling
-from ..modeling.model import Constraint, Model, Parameter
-from ..modeling.symbols import latex_names, to_sp
+from ...equations.dynamics import Dynamics, dynamics_of
+from ...equations.formalisms.base import reduce_velocities
+from ...errors import FormNotApplicable, did_you_mean
+from ...modeling.contacts import IdealRolling
+from ...modeling.model import Constraint, Model, Parameter
+from ...modeling.symbols import latex_names, to_sp
 
 __all__ = ["FrictionLaw", "friction_law"]
 
@@ -196,10 +196,10 @@ def touching_contacts(model: Model, states: dict | None = None) -> list[str]:
     overrides it): the contacts the Painleve representation closes by default.  A contact
     that does not touch (e.g. the top of a ladder that reaches the floor only when the ladder
     falls flat) must not be closed together with the others."""
-    from ..numeric.consistency import complete_state
-    from ..modes.solver import ModeSolver
-    from ..numeric.kernel import kernel_of, parameter_vector
-    from ..modes.switching import select_mode
+    from ...numeric.consistency import complete_state
+    from ...modes.solver import ModeSolver
+    from ...numeric.kernel import kernel_of, parameter_vector
+    from ...modes.switching import select_mode
 
     names = [c.name for c in model.contacts]
     states = _checked_states(states, names)
@@ -243,12 +243,12 @@ def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = 
     """
     import symengine as se
 
-    from ..numeric.consistency import complete_state
-    from ..equations.formalisms import derive as derive_symbolic
-    from ..numeric.consistency import initial_branch
-    from ..modes.solver import ModeSolver
-    from ..numeric.kernel import kernel_of, parameter_vector
-    from ..modes.switching import select_mode
+    from ...numeric.consistency import complete_state
+    from ...equations.formalisms import derive as derive_symbolic
+    from ...numeric.consistency import initial_branch
+    from ...modes.solver import ModeSolver
+    from ...numeric.kernel import kernel_of, parameter_vector
+    from ...modes.switching import select_mode
 
     names = [c.name for c in model.contacts]
     states = _checked_states(states, names)

@@ -15,7 +15,7 @@ This module measures a design:
 * :func:`design_measures` -- the work of the reactions ``A`` (the simulation's
   ``reaction_work``), the heat ``W`` and the criterion ``I = |A| + chi W`` (3.10) of one
   motion;
-* :func:`nonideal.analysis.design.minimize_criterion` -- the minimum of ``I`` over some
+* :func:`nonideal.analysis.studies.design.minimize_criterion` -- the minimum of ``I`` over some
   parameters (the transform's ``alpha, beta``), on top of the sweep.
 """
 
@@ -25,7 +25,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..errors import ModelError
+from ...errors import ModelError
 
 __all__ = ["actuator_heat", "design_measures", "criterion", "HEAT_SAMPLES"]
 
@@ -70,7 +70,7 @@ def actuator_heat(model, traj, parameters: Mapping[str, float] | None = None) ->
     """
     from scipy.integrate import cumulative_simpson
 
-    from ..numeric.kernel import kernel_of, parameter_vector
+    from ...numeric.kernel import kernel_of, parameter_vector
 
     losses = _loss_functions(model)
     if not losses:
@@ -125,7 +125,7 @@ def design_measures(model, t_end: float | None = None, parameters: Mapping[str, 
     (3.7), (3.8), (3.10); ``A`` is the simulation's ``reaction_work``, checked there by the
     energy balance).
     """
-    from ..simulation.hybrid import simulate
+    from ...simulation.hybrid import simulate
 
     t_end = float(t_end if t_end is not None else model.simulation.t_end)
     times = np.linspace(model.t0, t_end, samples)

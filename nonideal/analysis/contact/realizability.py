@@ -24,13 +24,13 @@ from typing import Any
 
 import numpy as np
 
-from ..numeric.consistency import complete_state
-from ..modeling.contacts import Coulomb, IdealRolling, LinearizedCoulomb, RegularizedCoulomb
-from ..errors import ModelError, did_you_mean
-from ..modeling.model import Model
-from ..modes.types import SEPARATED, SMOOTH, STICK, ContactState, Mode
-from ..modes.solver import ModeSolver
-from ..numeric.kernel import kernel_of, parameter_vector
+from ...numeric.consistency import complete_state
+from ...modeling.contacts import Coulomb, IdealRolling, LinearizedCoulomb, RegularizedCoulomb
+from ...errors import ModelError, did_you_mean
+from ...modeling.model import Model
+from ...modes.types import SEPARATED, SMOOTH, STICK, ContactState, Mode
+from ...modes.solver import ModeSolver
+from ...numeric.kernel import kernel_of, parameter_vector
 
 __all__ = ["ContactRealizability", "RealizabilityReport", "realizability", "realizability_along",
            "regularized"]
@@ -145,8 +145,8 @@ def _stick_mode(solver: ModeSolver, t, q, qd, names=None) -> Mode:
     scale = 1 + np.max(np.abs(q))
     natural = {}
     if names is not None:
-        from ..errors import MechanicsError
-        from ..modes.switching import select_mode
+        from ...errors import MechanicsError
+        from ...modes.switching import select_mode
 
         try:
             natural = dict(select_mode(solver, t, q, qd).contacts)
@@ -252,7 +252,7 @@ def realizability_along(model: Model, t_end: float | None = None, samples: int =
     of an ideally rolling contact (``mu = inf``) is its normal force ``N``: only lift-off
     ends rolling there.
     """
-    from ..simulation.hybrid import Simulation
+    from ...simulation.hybrid import Simulation
 
     report = realizability(model, parameters=parameters)
     sim = Simulation(model, parameters=parameters)

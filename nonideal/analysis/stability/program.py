@@ -2,7 +2,7 @@
 
 The programmed (servo) motion is followed by the simulation from the model's initial state;
 at each sample time the reduced ``A(t)``, ``B(t)`` are computed as for an equilibrium
-(:mod:`nonideal.analysis.linearize`: the perturbations stay on the constraint manifold --
+(:mod:`nonideal.analysis.stability.linearize`: the perturbations stay on the constraint manifold --
 the servo-constraints included, so the programme's own constraint drift is not reported as
 instability).  A servo-constraint whose control reaches the program only through the dynamics
 (relative degree above 1: the friction speed regulator, Manglieva & Beknazarov 2022, (3.3)) is
@@ -33,8 +33,8 @@ from typing import Sequence
 
 import numpy as np
 
-from ..errors import ModelError
-from ..modeling.model import Model
+from ...errors import ModelError
+from ...modeling.model import Model
 from .linear_system import Point, check_parameters, clean, ignorable_set, kernel_of, partition, state_matrices
 from .routh import analyse
 
@@ -168,7 +168,7 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
     samples : int
         Number of sample times.
     controls, keep, independent
-        As for :func:`nonideal.analysis.linearize.linearize`.
+        As for :func:`nonideal.analysis.stability.linearize.linearize`.
 
     Returns
     -------
@@ -177,7 +177,7 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
     from scipy.integrate import solve_ivp
     from scipy.interpolate import CubicSpline
 
-    from ..simulation import simulate
+    from ...simulation import simulate
     check_parameters(model, controls, "--controls")
     t_end = t_end if t_end is not None else model.simulation.t_end
     if t_end is None or not t_end > model.t0:

@@ -1,7 +1,7 @@
 """Design on top of the sweep: the minimum of Briskin's criterion ``I = |A| + chi W``
 (Briskin et al. 2021, (3.10)) over some parameters of a model -- a sweep over a grid finds the
 best point, ``scipy.optimize.minimize`` (Nelder-Mead) polishes it, every evaluation on the
-same compiled model (:mod:`nonideal.analysis.sweep`)."""
+same compiled model (:mod:`nonideal.analysis.studies.sweep`)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..errors import ModelError
+from ...errors import ModelError
 from .quasi_ideal import criterion
 
 __all__ = ["CriterionMinimum", "minimize_criterion"]
@@ -45,7 +45,7 @@ def minimize_criterion(model: str, axes, chi: float = 1.0, settings: Mapping[str
     parameters of *axes*.
 
     A sweep over the grid of *axes* (``--what simulate``: every point's work of the reactions
-    and actuator heat, :func:`~nonideal.analysis.sweep.sweep`) gives the best grid point;
+    and actuator heat, :func:`~nonideal.analysis.studies.sweep.sweep`) gives the best grid point;
     ``scipy.optimize.minimize`` (Nelder-Mead, bounded by the grid's range) starts there.
     Points where the motion is impossible (a singular transform) count as ``+inf``.
 

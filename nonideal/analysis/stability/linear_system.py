@@ -1,4 +1,4 @@
-"""The machinery of the first approximation (see :mod:`nonideal.analysis.linearize`).
+"""The machinery of the first approximation (see :mod:`nonideal.analysis.stability.linearize`).
 
 ``E = M q'' - F - B lambda = 0``, ``C = G q'' + gamma = 0`` and the constraint levels
 ``f(q, t) = 0`` (holonomic) and ``c(q, q', t) = 0`` (``df/dt`` and the nonholonomic rows) are
@@ -17,12 +17,12 @@ import numpy as np
 import symengine as se
 import sympy as sp
 
-from ..equations.dynamics import dynamics_of
-from ..errors import LinearizationUndefined, ModelError, did_you_mean
-from ..modeling.expressions import parse_expression
-from ..modeling.model import Model
-from ..modeling.symbols import to_se, to_sp
-from ..numeric.kernel import Compiled
+from ...equations.dynamics import dynamics_of
+from ...errors import LinearizationUndefined, ModelError, did_you_mean
+from ...modeling.expressions import parse_expression
+from ...modeling.model import Model
+from ...modeling.symbols import to_se, to_sp
+from ...numeric.kernel import Compiled
 
 __all__ = ["LinearKernel", "kernel_of", "Partition", "partition", "tangent", "state_matrices",
            "saddle", "solve", "Point", "NEWTON_STEPS", "check_parameters", "clean",

@@ -19,8 +19,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..modeling.model import Model
-from ..numeric.kernel import kernel_of, parameter_vector
+from ...modeling.model import Model
+from ...numeric.kernel import kernel_of, parameter_vector
 
 __all__ = ["ServoEquilibrium", "servo_equilibrium"]
 
@@ -70,7 +70,7 @@ def servo_equilibrium(model: Model, q=None, t: float | None = None) -> ServoEqui
     --------
     A pendulum held at ``theta0`` by a torque: the torque is ``m g l sin(theta0)``.
     """
-    from ..numeric.consistency import complete_state
+    from ...numeric.consistency import complete_state
 
     kernel = kernel_of(model)
     params = parameter_vector(model)

@@ -52,8 +52,8 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
-from ..errors import ModelError, NotAnEquilibrium, did_you_mean
-from ..modeling.model import Model
+from ...errors import ModelError, NotAnEquilibrium, did_you_mean
+from ...modeling.model import Model
 from .linear_system import (NEWTON_STEPS, LinearKernel, Partition, Point, check_parameters, clean,
                             ignorable_set, kernel_of, natural_frequencies, parse_state, partition,
                             saddle, solve, state_matrices)
@@ -254,7 +254,7 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
         other coordinates at rest, the accelerations of the velocities something depends on
         zero), found by Newton from *at* (the cyclic velocities given in *at* are held when
         that is possible, else adjusted too).
-        Programmed motions: :func:`nonideal.analysis.program.linearize_program`.
+        Programmed motions: :func:`nonideal.analysis.stability.program.linearize_program`.
     at : mapping or str, optional
         The state (guess): ``{"theta": 0.1, "psi'": 20}`` or ``"theta=0.1, psi'=20"``; values
         may be expressions in the parameters (kept symbolic with *symbolic*).  Missing values
@@ -287,7 +287,7 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
     if about not in ("equilibrium", "steady"):
         if about == "program":
             raise ModelError("linearize: about='program' is computed by "
-                             "nonideal.analysis.program.linearize_program (A(t), B(t) along the motion)")
+                             "nonideal.analysis.stability.program.linearize_program (A(t), B(t) along the motion)")
         raise ModelError(f"--about: '{about}' is not one of {', '.join(ABOUT)}{did_you_mean(about, ABOUT)}",
                          _src(model))
     symbolic, controls, keep = tuple(symbolic), tuple(controls), tuple(keep)

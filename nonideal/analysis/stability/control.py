@@ -1,6 +1,6 @@
 """Optimal stabilization (LQR) of a linearized motion and the nonlinear closed loop.
 
-For ``x' = A x + B u`` (a :class:`~nonideal.analysis.linearize.Linearization` with controls)
+For ``x' = A x + B u`` (a :class:`~nonideal.analysis.stability.linearize.Linearization` with controls)
 and the cost ``I = int (x^T Q x + u^T R u) dt`` the optimal feedback is ``u = -K x`` with
 ``K = R^-1 B^T P``, ``P`` the solution of the algebraic Riccati equation
 ``A^T P + P A - P B R^-1 B^T P + Q = 0`` (computed by python-control, ``control.lqr``).
@@ -20,8 +20,8 @@ from typing import Mapping, Sequence
 import numpy as np
 import sympy as sp
 
-from ..errors import ModelError
-from ..modeling.model import Model
+from ...errors import ModelError
+from ...modeling.model import Model
 
 __all__ = ["Regulator", "lqr", "closed_loop_model", "simulate_closed_loop", "weights", "ProgramRegulator",
            "program_lqr"]
@@ -141,7 +141,7 @@ def lqr(lin, Q=1.0, R=1.0) -> Regulator:
     R = np.eye(m) * R if np.ndim(R) == 0 else np.asarray(R, float)
     ctrl = lin.controllability or {}
     if ctrl and ctrl.get("rank", n) < n:
-        from ..errors import LinearizationUndefined
+        from ...errors import LinearizationUndefined
         raise LinearizationUndefined(
             f"the system is not controllable (Kalman rank {ctrl['rank']} of {n}): no feedback of "
             f"{', '.join(lin.controls)} stabilizes every variable; choose other controls")
@@ -181,7 +181,7 @@ def simulate_closed_loop(model: Model, lin, reg: Regulator, perturbation: Mappin
                          t_end: float, times: Sequence[float] | None = None, **options):
     """Simulate the nonlinear closed loop from the linearized state plus *perturbation*
     (``{variable: delta}``).  Returns the :class:`Trajectory`."""
-    from ..simulation import simulate
+    from ...simulation import simulate
 
     cl = closed_loop_model(model, reg)
     initial = {}
@@ -223,7 +223,7 @@ class ProgramRegulator:
 
 
 def program_lqr(prog, Q=1.0, R=1.0) -> ProgramRegulator:
-    """The finite-horizon LQR of a :class:`~nonideal.analysis.program.ProgramLinearization`
+    """The finite-horizon LQR of a :class:`~nonideal.analysis.stability.program.ProgramLinearization`
     with controls (see :class:`ProgramRegulator`)."""
     from scipy.integrate import solve_ivp
     from scipy.interpolate import CubicSpline

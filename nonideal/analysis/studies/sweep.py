@@ -33,7 +33,7 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from ..errors import ModelError, did_you_mean
+from ...errors import ModelError, did_you_mean
 from .sweep_points import WHATS, PointRunner, SweepTask, run_chunk, runner_for
 
 __all__ = ["Axis", "parse_vary", "grid", "point_key", "SweepTask", "PointRunner", "SweepResult",

@@ -1,0 +1,1 @@
+"""Analyses of contacts: realizability of rolling by Coulomb friction (Kalinin & Novozhilov), the friction law of a system (Manglieva & Beknazarov 2022), equilibrium under servo-constraints (Béghin 1922)."""
