@@ -151,7 +151,8 @@ class Normalizer:
             params[name] = p
         values, problems = resolve_parameters({n: p.value for n, p in params.items()})
         self.problems += problems
-        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description)
+        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description,
+                                             p.value if isinstance(p.value, str) else p.definition)
                                 for n, p in params.items() if n in values})
 
     # -- energy

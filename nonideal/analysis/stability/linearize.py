@@ -50,11 +50,14 @@ from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 import numpy as np
+import symengine as se
 import sympy as sp
 
-from ...errors import ModelError, NotAnEquilibrium, did_you_mean
+from ...errors import LinearizationUndefined, ModelError, NotAnEquilibrium, did_you_mean
 from ...modeling.model import Model
+from ...numeric.display import number
 from .linear_system import (NEWTON_STEPS, LinearKernel, Partition, Point, check_parameters, clean,
+                            parameter_substitution,
                             ignorable_set, kernel_of, natural_frequencies, parse_state, partition,
                             saddle, solve, state_matrices)
 from .routh import analyse, controllability
@@ -168,8 +171,8 @@ class Linearization:
         the conditions, the verdict and why."""
         lines = [f"{self.model}: first approximation about the "
                  + ("steady motion" if self.about == "steady" else "equilibrium")]
-        state = ", ".join(f"{k} = {v:.10g}" for k, v in self.q.items())
-        moving = ", ".join(f"{k}' = {v:.10g}" for k, v in self.qdot.items() if v)
+        state = ", ".join(f"{k} = {number(v)}" for k, v in self.q.items())
+        moving = ", ".join(f"{k}' = {number(v)}" for k, v in self.qdot.items() if number(v) != "0")
         lines.append(f"  state: {state}" + (f", {moving}" if moving else ""))
         if self.residual:
             lines.append(f"  (found by Newton from the guess; residual rate at the guess {self.residual:.3g})")
@@ -374,7 +377,7 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
         A_sym, B_sym = _symbolic(k, model, t0, q, v, given, part, symbolic, values, kept, rated)
         A_sym = A_sym.extract(stay, stay)
         B_sym = B_sym.extract(stay, list(range(B_sym.cols)))
-    info = analyse(A_r, A_sym, symbolic, [variables[i] for i in stay])
+    info = analyse(A_r, A_sym, symbolic, [variables[i] for i in stay], about == "equilibrium")
     ctrl = controllability(A_r, B_r) if controls else {}
     freqs = natural_frequencies(pt, q, v, part, kept) if about == "equilibrium" else ()
     dependent = [names_q[j] for j in part.coords_D] + [names_v[j] for j in part.vel_D]
@@ -437,7 +440,12 @@ def _newton(pt: Point, q, v, part, kept, rated, given, about, names_v, scale):
         free_v = [] if about == "equilibrium" else [j for j in part.vel_I if j not in kept and j not in held]
         cols = [part.coords_I.index(j) for j in kept] + [nI + part.vel_I.index(j) for j in free_v]
         for _ in range(NEWTON_STEPS):
-            R, a, lam, b = _rates(pt, qq, vv, kept, rated)
+            try:
+                R, a, lam, b = _rates(pt, qq, vv, kept, rated)
+            except LinearizationUndefined as exc:
+                # Newton ran onto a singular state (a coordinate singularity): no steady motion
+                # there; the guess's neighbourhood has none it could reach
+                return q, v, False, best[:3] + (str(exc),)
             size = float(np.max(np.abs(R), initial=0.0))
             if size < best[0]:
                 best = (size, qq.copy(), vv.copy())
@@ -468,7 +476,11 @@ def _not_steady(model, about, names_q, names_v, q, v, R, kept, rated, best) -> N
         state += ", " + ", ".join(f"{c} = {x:.6g}" for c, x in zip(names_v, v) if x)
     what = "an equilibrium" if about == "equilibrium" else "a steady motion"
     text = f"--at: the state ({state}) is not {what}: the residual rates are {worst}"
-    if best is not None:
+    if best is not None and len(best) > 3:
+        text += (f"; Newton from this guess ran onto a state where {best[3]}; no "
+                 f"{what.split(' ', 1)[1]} was found near the guess (smallest residual "
+                 f"{best[0]:.3g} on the way)")
+    elif best is not None:
         text += (f"; Newton from this guess did not converge (smallest residual {best[0]:.3g} "
                  f"after {NEWTON_STEPS} steps)")
     fix = ("give a guess closer to an equilibrium in --at (where the forces balance)"
@@ -481,24 +493,35 @@ def _not_steady(model, about, names_q, names_v, q, v, R, kept, rated, best) -> N
 
 
 def _symbolic(k: LinearKernel, model, t0, q, v, given, part, symbolic, values, kept, rated):
-    """A and B in the *symbolic* parameters (the state: expressions given in --at, else the numbers)."""
+    """A and B in the *symbolic* parameters, in exact arithmetic (the other parameters as exact
+    numbers, derived ones that depend on a symbolic one by their definitions: see
+    :func:`parameter_substitution`).  The state: the expressions given in --at, else the
+    model's initial values when they are expressions in the parameters and equal the state,
+    else the numbers -- refused when a symbolic parameter then enters nowhere."""
     names_q = list(model.coordinates)
     names_v = [c + "'" for c in names_q]
     subs = {sp.Symbol(name): val for name, val in values.items()}
-
-    fixed = {sym: (sp.Integer(int(val)) if float(val).is_integer() else sp.Float(val))
-             for sym, val in subs.items() if str(sym) not in symbolic}
+    fixed = parameter_substitution(model, symbolic)
+    fixed_s = {sp.Symbol(name): e for name, e in fixed.items()}
+    initial = {key: sp.sympify(val) for key, val in model.initial.items()
+               if key not in given and isinstance(val, sp.Basic) and val.free_symbols}
+    from_numbers = []
 
     def entry(name, num):
-        expr = given.get(name)
-        if expr is not None and abs(float(expr.xreplace(subs)) - num) <= 1e-9 * (1 + abs(num)):
-            return expr.xreplace(fixed)
-        return _exact(num)
+        out = _exact(num)
+        for source in (given, initial):
+            expr = source.get(name)
+            if expr is not None and abs(float(expr.xreplace(subs)) - num) <= 1e-9 * (1 + abs(num)):
+                out = expr.xreplace(fixed_s)
+                break
+        if out != 0 and not out.free_symbols:
+            from_numbers.append(name)
+        return out
 
     qs = [entry(c, x) for c, x in zip(names_q, q)]
     vs = [entry(c, x) for c, x in zip(names_v, v)]
     n, r = k.n, k.r
-    b0 = k.symbolic(t0, qs, vs, [0] * n, [0] * r, values, symbolic)
+    b0 = k.symbolic(t0, qs, vs, [0] * n, [0] * r, fixed)
     K = saddle(b0, False)
     rhs = -sp.Matrix.vstack(b0["E"], b0["C"])
     sol = solve(K, rhs, False, "the motion is undetermined at this state", model)
@@ -518,8 +541,61 @@ def _symbolic(k: LinearKernel, model, t0, q, v, given, part, symbolic, values, k
                 f"other values of them the residual rates are up to {max(bad):.3g}); give the "
                 "state in --at as expressions in them (e.g. \"phi=acos(g/(l*w^2))\") or make "
                 "them numeric", _src(model))
-    b = k.symbolic(t0, qs, vs, a, lam, values, symbolic)
-    return state_matrices(b, part, n, False, model)
+    b = k.symbolic(t0, qs, vs, a, lam, fixed)
+    A, B = state_matrices(b, part, n, False, model)
+    A, B = (m.applyfunc(lambda e: without_residue(e, subs)) for m in (A, B))
+    used = {str(x) for e in k.flat for x in se.sympify(e).free_symbols}
+    used |= {str(x) for name, e in fixed.items() if name in used for x in e.free_symbols}
+    absent = [name for name in symbolic if sp.Symbol(name) not in A.free_symbols and name not in used]
+    if absent and from_numbers:
+        # a parameter may enter only through the state (a spin w given as phi' = 5): kept
+        # numeric, the conditions would silently not be in it
+        dependent = [names_q[j] for j in part.coords_D] + [names_v[j] for j in part.vel_D]
+        shown = [name for name in from_numbers if name not in dependent] or from_numbers
+        example = shown[0]
+        where = ", ".join(f"{name} = {_exact(x)}" for name, x in
+                          zip(names_q + names_v, list(q) + list(v)) if name in shown)
+        raise ModelError(
+            f"--symbolic {', '.join(absent)}: {'it does' if len(absent) == 1 else 'they do'} not "
+            f"appear in A at this state, whose values are numbers ({where}); if the state depends "
+            f"on {', '.join(absent)}, give it in --at as expressions in "
+            f"{'it' if len(absent) == 1 else 'them'} (e.g. --at \"{example}={absent[0]}\"), "
+            f"else drop {'it' if len(absent) == 1 else 'them'} from --symbolic", _src(model))
+    return A, B
+
+
+#: a term with a floating-point coefficient below this fraction of its expression's size at the
+#: parameters' values is the rounding of a cancellation (a state found by Newton in floating
+#: point), not a term: ``1.73e-22*A**2`` beside terms of order 1
+RESIDUE = 1e-12
+
+
+def without_residue(expr, values: dict) -> sp.Expr:
+    """*expr* with the rounding residue of floating-point state values removed: in its
+    numerator and denominator (expanded), the terms with a Float coefficient whose value at the
+    parameters' *values* is below :data:`RESIDUE` of the sum of the terms' magnitudes there.
+    Exact terms are never dropped."""
+    expr = sp.sympify(expr)
+    if not expr.atoms(sp.Float) or not expr.free_symbols:
+        return expr
+    num, den = sp.fraction(sp.together(expr))
+
+    dropped = []
+
+    def clean_part(part):
+        terms = sp.Add.make_args(sp.expand(part))
+        try:
+            sizes = [abs(complex(sp.N(t.xreplace(values)))) for t in terms]
+        except (TypeError, ValueError):
+            return part
+        total = sum(sizes)
+        keep = [t for t, z in zip(terms, sizes)
+                if not (t.atoms(sp.Float) and z <= RESIDUE * total)]
+        dropped.extend(t for t in terms if t not in keep)
+        return sp.Add(*keep)
+
+    num, den = clean_part(num), clean_part(den)
+    return num / den if dropped else expr
 
 
 def _exact(num: float) -> sp.Expr:
