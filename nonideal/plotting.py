@@ -164,7 +164,8 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
     if controls:
         ax = axes[k + 3]
         for name, c in controls.items():
-            ax.plot(t, c["force"], label=f"u {name}")
+            if "force" in c:        # a program realized by shared controls has none
+                ax.plot(t, c["force"], label=f"u {name}")
         ax.set_ylabel("control force\n(model units)")
         ax2 = ax.twinx()
         for name, c in controls.items():

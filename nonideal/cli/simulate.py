@@ -101,6 +101,8 @@ def run(args) -> int:
     if stdout is not None:
         print(stdout)
     elif not args.json:
+        import numpy as np
+
         d = traj.diagnostics
         print(f"{traj.model}: simulated t = {traj.t[0]:g} .. {traj.t[-1]:g} "
               f"({d['samples']} samples, {d['events']} events, form {d['form']}, {d['method']})")
@@ -133,6 +135,15 @@ def run(args) -> int:
                 for label, (lo, hi, shown) in ph["end"].items():
                     print(f"      {label}: shown {number(shown, None, 8)}, admissible from "
                           f"{number(lo, None, 8)} to {number(hi, None, 8)}")
+        for name, c in traj.controls.items():
+            if "force" not in c:    # a program realized by the shared controls
+                continue
+            u = np.asarray(c["force"], dtype=float)
+            extra = "".join(f", {k} = {number(c[k][-1], None, 10)}" for k in sorted(c)
+                            if k.startswith("u_"))
+            print(f"  control {name}: force at t_end = {number(u[-1], float(abs(u).max()), 10)}"
+                  f" (from {number(u.min(), None, 8)} to {number(u.max(), None, 8)}){extra}, "
+                  f"work = {number(c['work'][-1], None, 10)}")
         if heat is not None:
             print(f"  work of the reactions A = {traj.energy['reaction_work'][-1]:.12g}, heat lost in "
                   f"the drives W = {heat['total']:.12g} (Briskin et al. 2021, (3.7))")
