@@ -285,7 +285,7 @@ def weakest_reactions(M: np.ndarray, G: np.ndarray, B: np.ndarray) -> tuple[floa
 def _singular_transforms(kernel, bad, t, q, qd, params) -> str:
     """The explanation when the non-finite reaction columns *bad* are quasi-ideal constraints
     whose transform ``A`` is singular at the state (``A R = lambda grad f``, Briskin et al.
-    2021, (1.3)): ``R = A^-1 grad f lambda`` does not exist there, though the definition may
+    2021, (1.3), (2.1)): ``R = A^-1 grad f lambda`` does not exist there, though the definition may
     still fix the reaction (along ``adj(A) grad f``, with ``lambda = 0``); empty otherwise."""
     import sympy as sp
 
@@ -314,7 +314,7 @@ def _singular_transforms(kernel, bad, t, q, qd, params) -> str:
         out.append(
             f"constraint '{c.name}': its transform A is singular (det A = 0) -- a quasi-ideal "
             f"constraint's reaction R = A^-1 (grad f) lambda does not exist.  By its definition "
-            f"A R = lambda grad f (Briskin et al. 2021, (1.3)) the reaction is then "
+            f"A R = lambda grad f (Briskin et al. 2021, (1.3), (2.1)) the reaction is then "
             + (f"along adj(A) grad f = ({direction}) with lambda = 0, a motion this library does "
                "not yet compute (it solves quasi-ideal constraints through A^-1); move the "
                "transform off det A = 0 to compute it" if np.any(np.abs(adj) > 1e-12 * scale)

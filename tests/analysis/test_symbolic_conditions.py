@@ -7,7 +7,8 @@ import dataclasses
 import pytest
 import sympy as sp
 
-from nonideal.analysis.stability.linearize import linearize, without_residue
+from nonideal.analysis.stability.linearize import linearize
+from nonideal.analysis.stability.symbolic import without_residue
 from nonideal.errors import ModelError, NotAnEquilibrium
 from nonideal.gallery import sleeping_top
 from nonideal.modeling.model import Model
