@@ -56,8 +56,9 @@ class Trajectory:
     contacts : dict name -> dict of arrays (``normal``, ``friction``, ``slip``, ``mode``)
     controls : dict name -> dict, one per servo-constraint (Béghin 1922): ``force`` (N,) the
         control u (the multiplier of the program: the generalized control force is ``D u``),
-        ``power`` (N,) ``u D . q'``, ``work`` (N,) its integral by Simpson's rule over the
-        samples (pass a fine ``times`` grid for an accurate work), ``order`` the order of the
+        ``power`` (N,) ``u D . q'``, ``work`` (N,) its integral, integrated with the motion
+        (the work of controls shared by several programs, ``[[controls]]``, by Simpson's rule
+        over the samples: pass a fine ``times`` grid for it), ``order`` the order of the
         time derivative of the coordinates in which the control appears (2 ordinarily, more
         when it acts through the dynamics); for a program with several control directions
         (Béghin's r < j) also ``u_1 .. u_j``, the least-cost controls, and ``force`` is then the
@@ -163,7 +164,12 @@ class Trajectory:
                               "slip": np.array(slip, dtype=float).reshape(N, d).tolist(),
                               "gap": np.array(gap, dtype=float), "mu_static": np.array(mu_s, dtype=float),
                               "mode": list(label)}
-        controls = _controls(kernel, mult, qd, kernel.dynamics.views(kernel.dynamics.batch(X)), t, X) \
+        # the controls' works integrated with the motion (the states after the five works)
+        integrated = {kernel.rows[i].name: Y[:, 2 * n + 5 + k]
+                      for k, i in enumerate(getattr(sim, "control_rows", ()))
+                      if Y.shape[1] > 2 * n + 5 + k}
+        controls = _controls(kernel, mult, qd, kernel.dynamics.views(kernel.dynamics.batch(X)), t, X,
+                             integrated) \
             if any(r.reaction_kind == "servo" for r in kernel.rows) else {}  # (no n x n M per sample)
         return cls(kernel.model.name, tuple(kernel.model.coordinates), t, q, qd, qdd,
                    [s.mode.label() for s in samples], mult, energy, list(events), diag, contacts,
@@ -298,9 +304,12 @@ def _control_columns(c: dict, labels: bool = False) -> list[str]:
     return [{"force": "u", "power": "P", "work": "W"}.get(k, k) for k in keys]
 
 
-def _controls(kernel, mult, qd, dynamics, t, X) -> dict[str, dict[str, Any]]:
+def _controls(kernel, mult, qd, dynamics, t, X, integrated=None) -> dict[str, dict[str, Any]]:
     """Control force, power and work of every servo-constraint over the samples (and, for a
-    program with several control directions, each control ``u_<k>``)."""
+    program with several control directions, each control ``u_<k>``).  The work is the one
+    integrated with the motion where the simulation carried it (*integrated*: name -> work
+    at the samples), else the quadrature of the power over the samples."""
+    integrated = integrated or {}
     from ..numeric.kernel import Compiled
     out = {}
     reach = kernel.dyn.servo_reach
@@ -313,7 +322,7 @@ def _controls(kernel, mult, qd, dynamics, t, X) -> dict[str, dict[str, Any]]:
         u = mult[r.name]
         B = np.asarray(dynamics["B"], dtype=float).reshape(len(t), kernel.n, -1)[:, :, i]
         power = u * np.einsum("ki,ki->k", B, qd)
-        work = _work(power, t)
+        work = integrated[r.name].copy() if r.name in integrated else _work(power, t)
         if r.name in names:
             # a program realized by the shared controls: its multiplier is no force (the
             # controls' forces are u = C mu, reported under the controls' own names)
