@@ -189,7 +189,9 @@ def _frame(norm, f: Frame, q: set):
         return None
     R = sp.Matrix(rows)
     off = R.T * R - sp.eye(3)
-    if not all(identically_zero(x) for x in off) or not identically_zero(R.det() - 1):
+    det = (R[0, 0] * (R[1, 1] * R[2, 2] - R[1, 2] * R[2, 1]) - R[0, 1] * (R[1, 0] * R[2, 2] - R[1, 2] * R[2, 0])
+           + R[0, 2] * (R[1, 0] * R[2, 1] - R[1, 1] * R[2, 0]))   # no symbolic elimination
+    if not all(identically_zero(x) for x in off) or not identically_zero(det - 1):
         problems.append(f"{where}: matrix is not a rotation (R^T R = I and det R = 1 must hold "
                         "identically); check its entries, or use rotation = \"body ...\" with angles")
         return None
