@@ -20,11 +20,12 @@ from .points import Point
 from .symbols import is_identifier, t
 from .values import identically_zero
 
-__all__ = ["normalize_kinematics", "resolve_body", "norm_constraints", "quaternion_initial_problems",
+__all__ = ["normalize_kinematics", "resolve_body", "norm_constraints", "normalize_quaternion_initial",
            "NORM_TOLERANCE"]
 
-#: Euler parameters given at t0 whose norm differs from 1 by more than this are refused
-NORM_TOLERANCE = 1e-6
+#: Euler parameters given at t0 whose norm differs from 1 by more than this are refused (closer,
+#: they are divided by their norm)
+NORM_TOLERANCE = 1e-3
 
 
 def normalize_kinematics(norm) -> Kinematics:
@@ -246,9 +247,12 @@ def norm_constraints(kin: Kinematics | None, constraints: tuple, problems: list[
     return tuple(out)
 
 
-def quaternion_initial_problems(kin: Kinematics | None, initial: dict, values: dict) -> list[str]:
-    """Euler parameters given at t0 must have unit norm (to :data:`NORM_TOLERANCE`)."""
-    out = []
+def normalize_quaternion_initial(kin: Kinematics | None, initial: dict, values: dict) -> tuple[dict, list[str]]:
+    """Euler parameters given at t0, divided by their norm when it is within
+    :data:`NORM_TOLERANCE` of one (values written with a few decimals, 0.7071); farther from
+    one they are refused with the normalized values suggested.  Returns the initial values
+    and the problems."""
+    out, problems = dict(initial), []
     for frame, e in (kin.quaternions() if kin is not None else {}).items():
         names = [x.name for x in e]
         if not all(n in initial for n in names):
@@ -261,9 +265,11 @@ def quaternion_initial_problems(kin: Kinematics | None, initial: dict, values: d
         if abs(size - 1.0) > NORM_TOLERANCE:
             hint = ", ".join(f"{n} = {v / size:.12g}" for n, v in zip(names, vals)) if size > 0 else \
                 f"{names[0]} = 1, the others 0"
-            out.append(f"[initial] {', '.join(names)}: the Euler parameters of frame '{frame}' have norm "
-                       f"{size:.12g}, not 1; give a unit quaternion, e.g. {hint}")
-    return out
+            problems.append(f"[initial] {', '.join(names)}: the Euler parameters of frame '{frame}' have "
+                            f"norm {size:.12g}, not 1; give a unit quaternion, e.g. {hint}")
+        elif size != 1.0:
+            out.update({n: sp.Float(v / size, 17) for n, v in zip(names, vals)})
+    return out, problems
 
 
 def describe(kin: Kinematics | None) -> list[str]:

@@ -63,3 +63,10 @@ def test_the_norm_constraint_is_added_once():
     model = gallery.load(hep.NAME)
     again = model.replace()
     assert [c.name for c in again.constraints] == ["B_norm"]
+
+
+def test_euler_parameters_written_with_few_decimals_are_normalized():
+    model = gallery.load(hep.NAME)
+    m = model.replace(initial={**model.initial, "e0": 0.7071, "e1": 0.7071, "e1'": 0.0})
+    e = [float(m.initial[f"e{i}"]) for i in range(4)]
+    assert abs(np.linalg.norm(e) - 1) < 1e-15 and e[0] == pytest.approx(np.sqrt(0.5), rel=1e-15)
