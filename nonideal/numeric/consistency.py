@@ -174,7 +174,10 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     miss_q = [i for i, c in enumerate(names) if c not in given]
     miss_v = [i for i, c in enumerate(names) if c + "'" not in given]
 
-    # ---- positions
+    # ---- positions (a shape's support point must be unique where the orientation is given)
+    problems = support_problems(model, levels.ck.params, params, t0, start_q, given)
+    if problems:
+        raise InconsistentInitialConditions(problems, _src(model))
     pos_rows = [i for i in equality if rows[i].holonomic]
     q, qd, ok = _newton(levels, pos_rows, miss_q, t0, start_q, qd, "pos")
     closed_extra: list[int] = []
@@ -266,14 +269,18 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     return q, qd, closed_constraints
 
 
-def support_problems(model, symbols, params, t, q) -> list[str]:
+def support_problems(model, symbols, params, t, q, given=None) -> list[str]:
     """The contacts from geometry whose support point is not unique at the state (a disk lying
-    flat, a paraboloid touching from outside its valid side), each named with the reason."""
+    flat, a paraboloid touching from outside its valid side), each named with the reason; with
+    *given* (names of the given values), only those whose orientation is given."""
     out = []
     for c in model.contacts:
         if c.geometry is None or c.geometry.validity is None:
             continue
         expr, why = c.geometry.validity
+        if given is not None and any(str(s) in model.coordinates and str(s) not in given
+                                     for s in expr.free_symbols):
+            continue
         values = {sp.Symbol(str(k)): float(v) for k, v in zip(symbols, params)}
         values |= {k: float(v) for k, v in zip(model.q, q)} | {time: float(t)}
         value = float(expr.xreplace(values))
