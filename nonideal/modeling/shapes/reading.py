@@ -80,7 +80,9 @@ def shape_contact(ct, where: str, model, parse: Callable[[Any, str], Any], probl
     if found or shape is None or surface is None:
         problems += found
         return None
-    geometry = contact_geometry(shape, surface, body.rotation, body.position, model.q, model.qd, t)
+    omega = getattr(body, "omega", None)   # body axes, when the body is given by a frame
+    geometry = contact_geometry(shape, surface, body.rotation, body.position, model.q, model.qd, t,
+                                omega=None if omega is None else sp.Matrix(body.rotation) * sp.Matrix(omega))
     # a component the coordinates cannot produce (a planar model's sideways slip) is left out
     slip = tuple(u for u in geometry.slip if sp.expand(u) != 0)
     if not slip:
