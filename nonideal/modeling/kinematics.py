@@ -30,7 +30,7 @@ import sympy as sp
 
 from ..errors import did_you_mean
 from .frames import FIXED, ORIGIN, relative
-from .vectors import AXES, Unknown, Vector, add, cross, zero
+from .vectors import AXES, Unknown, Vector, add, as_basic, cross, zero
 
 __all__ = ["Kinematics", "RESERVED_KINEMATIC_NAMES"]
 
@@ -67,7 +67,7 @@ class Kinematics:
     # ---------------------------------------------------------------- calculus
     def dt(self, expr) -> sp.Expr:
         """The total time derivative of an expression in q, q', t (q'' where q' occurs)."""
-        expr = sp.sympify(expr)
+        expr = as_basic(expr)
         free = expr.free_symbols
         out = [sp.diff(expr, self.t)] if self.t in free else []
         for s in sorted(free, key=lambda s: s.name):
@@ -149,7 +149,7 @@ class Kinematics:
         return self._memo(("offset", name), build)
 
     def _moves(self, expr) -> bool:
-        return any(s in self._next or s == self.t for s in sp.sympify(expr).free_symbols)
+        return any(s in self._next or s == self.t for s in as_basic(expr).free_symbols)
 
     def pos(self, name: str) -> Vector:
         """Position of point *name* from O, in N."""
