@@ -115,8 +115,7 @@ class Simulation:
         self.contacts = bool(self.solver.ck)
         self.track = bool(k.rows) or k.has_nc_forces or k.explicit_time or self.contacts
         self.n = k.n
-        #: kernel rows of the servo-constraints (a program with its own reaction direction):
-        #: each control's power is integrated with the motion, one state after the works
+        #: the servo rows: each control's power is integrated with the motion, after the works
         self.control_rows = [i for i, r in enumerate(k.rows) if r.reaction_kind == "servo"]
 
     # ------------------------------------------------------------------ right-hand side
@@ -271,15 +270,9 @@ class Simulation:
     def _work_tolerances(self):
         """Absolute tolerances of the state ``[q, q', W]``: *atol* for the motion and
         :data:`WORK_ATOL` times it for the work integrals (a user's array is kept)."""
-        size = 2 * self.n + N_WORK + len(self.control_rows)
-        if np.ndim(self.atol):
-            atol = np.asarray(self.atol, dtype=float)
-            if atol.size < size:    # the controls' works: as the other works
-                atol = np.concatenate((atol, np.full(size - atol.size, WORK_ATOL * float(atol.max()))))
-            return atol
-        atol = np.full(size, float(self.atol))
-        atol[2 * self.n:] *= WORK_ATOL
-        return atol
+        size = 2 * self.n + N_WORK + len(self.control_rows)   # the controls' works last
+        atol = np.asarray(self.atol, dtype=float) if np.ndim(self.atol) else np.full(2 * self.n, self.atol)
+        return np.concatenate((atol, np.full(max(0, size - atol.size), WORK_ATOL * atol.max())))
 
     def _energy(self, t, q, qd) -> float:
         """Jacobi's energy ``T2 - T0 + V`` at a state."""
