@@ -265,7 +265,7 @@ class Simulation:
             qd = qd + np.linalg.lstsq(np.array(Gv), -np.array(rv), rcond=None)[0]
         return q, qd
 
-    def _work_tolerances(self):
+    def work_tolerances(self):
         """Absolute tolerances of the state ``[q, q', W]``: *atol* for the motion and
         :data:`WORK_ATOL` times it for the work integrals (a user's array is kept)."""
         if np.ndim(self.atol):
@@ -361,7 +361,7 @@ class Simulation:
         mode = select_mode(self.solver, t0, q0, qd0)
         q0, qd0 = self._project(mode, t0, q0, qd0)
         y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))
-        atol = self._work_tolerances() if self.track else self.atol
+        atol = self.work_tolerances() if self.track else self.atol
         samples = SampleBuffer(self.max_samples)  # bounded: thinned past max_samples steps
         budget = StepBudget(t0, t_end, None if model.source == "<api>" else model.source, method=self.method)
         events_log: list[dict] = []
