@@ -7,7 +7,8 @@ The format (``format = 1``, reference: docs/MODEL_FORMAT.md) is extended -- neve
 * ``[[loads]]`` (``type = "force" | "torque"``) turned into generalized forces;
 * ``restitution`` for unilateral constraints (impact law; 0 = plastic, the default);
 * contacts: ``friction = "coulomb" | "regularized" | "linearized"``, ``eps``,
-  ``restitution``, ``bilateral``; ``mu = "inf"`` (ideal rolling while in contact);
+  ``restitution``, ``bilateral``; ``mu = "inf"`` (ideal rolling while in contact); friction
+  torques ``spin``/``spin_friction``, ``rolling``/``rolling_friction``;
 * ``[forms] independent`` -- independent coordinates for the reduced forms (for
   ``lagrange2`` those of the first chart, see :mod:`nonideal.charts`);
 * ``[parameters]`` values may be tables ``{value, unit, description}``, and expressions in the
@@ -56,7 +57,7 @@ CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral"
                    "losses", "root", "cost", "description"}
 CONTROL_KEYS = {"name", "direction", "weight", "description"}
 CONTACT_KEYS = {"name", "gap", "slip", "mu", "mu_static", "friction", "eps", "restitution",
-                "bilateral", "description"}
+                "bilateral", "description", "spin", "rolling", "spin_friction", "rolling_friction"}
 BODY_KEYS = {
     "particle": {"type", "name", "mass", "position"},
     "planar": {"type", "name", "mass", "inertia", "position", "angle"},
@@ -322,8 +323,18 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
             continue
         impact = Plastic() if not e else Newton(e)
         slip = c["slip"]
+        # friction torques: the angular velocities and the lengths (checked by the Model)
+        if "spin" in c and not check.expr(c, "spin", where):
+            continue
+        if "rolling" in c and not check.expr_list(c, "rolling", where, (1, 2), allow_scalar=True):
+            continue
+        if not all(check.expr(c, key, where) for key in ("spin_friction", "rolling_friction") if key in c):
+            continue
+        rolling = c.get("rolling")
         contacts.append(Contact(c["name"], c["gap"], tuple(slip) if isinstance(slip, list) else (slip,),
-                                friction, impact, bilateral))
+                                friction, impact, bilateral, spin=c.get("spin"),
+                                rolling=tuple(rolling) if isinstance(rolling, list) else rolling,
+                                spin_friction=c.get("spin_friction"), rolling_friction=c.get("rolling_friction")))
 
     bodies = []
     for k, b in enumerate(_array_of_tables(data, "bodies", problems)):

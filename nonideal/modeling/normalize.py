@@ -12,8 +12,7 @@ import numpy as np
 import sympy as sp
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
-from .contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb,
-                       read_infinite)
+from .contact_normalize import normalize_contacts
 from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 
@@ -426,118 +425,7 @@ class Normalizer:
         self.set("constraints", tuple(out))
 
     def contacts(self) -> None:
-        m = self.m
-        out, names = [], {c.name for c in m.constraints}
-        for ct in m.contacts:
-            where = f"contact '{ct.name}'"
-            if not isinstance(ct.name, str) or not is_identifier(ct.name):
-                self.problems.append(f"{where}: name must be an identifier")
-                continue
-            if ct.name in names:
-                self.problems.append(f"{where}: name already used by a constraint or contact")
-                continue
-            names.add(ct.name)
-            gap = self.smooth(self.expr(ct.gap, f"{where}: gap", 2), f"{where}: gap")
-            if gap is None:
-                continue
-            if derivative_order(gap, m.coordinates) > 0:
-                self.problems.append(
-                    f"{where}: the gap must be a function of the coordinates and time only "
-                    "(it contains velocities)"
-                )
-                continue
-            if identically_zero(gap) or not (gap.free_symbols & set(m.q)):
-                self.problems.append(
-                    f"{where}: the gap does not depend on the coordinates, so no normal force "
-                    "can be identified; write the normal distance, e.g. gap = \"y\""
-                )
-                continue
-            slips = []
-            if not 1 <= len(ct.slip) <= 2:
-                self.problems.append(f"{where}: slip must have 1 or 2 components (got {len(ct.slip)})")
-                continue
-            for i, s in enumerate(ct.slip):
-                e = self.smooth(self.expr(s, f"{where}: slip[{i}]", 2), f"{where}: slip[{i}]")
-                if e is None:
-                    continue
-                if derivative_order(e, m.coordinates) == 2:
-                    self.problems.append(f"{where}: slip[{i}] must not contain accelerations")
-                    continue
-                if any(sp.diff(e, a, b) != 0 for a in m.qd for b in m.qd if a in e.free_symbols):
-                    self.problems.append(
-                        f"{where}: slip[{i}] = {e} is not linear in the velocities; a slip "
-                        "velocity is W(q,t) q' + w0"
-                    )
-                    continue
-                if not (e.free_symbols & set(m.qd)):
-                    self.problems.append(
-                        f"{where}: slip[{i}] = {e} contains no velocity; it must be the "
-                        "tangential velocity of the contact point"
-                    )
-                    continue
-                slips.append(e)
-            if len(slips) != len(ct.slip):
-                continue
-            friction = self.friction(ct.friction, where)
-            impact = ct.impact
-            if not isinstance(impact, (Plastic, Newton)):
-                self.problems.append(f"{where}: impact must be Plastic() or Newton(e)")
-                continue
-            if not 0.0 <= float(impact.restitution) <= 1.0:
-                self.problems.append(f"{where}: restitution must lie in [0, 1] (got {impact.restitution})")
-                continue
-            if friction is None:
-                continue
-            out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral)))
-        self.set("contacts", tuple(out))
-        # the multipliers are printed as lambda_<constraint>: a parameter or coordinate of that
-        # name would read like a multiplier in every equation
-        for kind, given in (("[parameters]", m.parameters), ("[coordinates] q:", m.coordinates)):
-            for name in given:
-                if isinstance(name, str) and name.startswith("lambda_") and name[7:] in names:
-                    self.problems.append(
-                        f"{kind} '{name}' is the name of the multiplier of constraint or contact "
-                        f"'{name[7:]}' in the equations; rename it")
-
-    def friction(self, law: Any, where: str):
-        pvals = parameter_values(self.m.parameters)
-
-        def coefficient(value: Any, key: str):
-            e = self.expr(value, f"{where}: {key}", 0)
-            if e is None:
-                return None
-            if not e.free_symbols & set(self.m.q):
-                v = e.xreplace(pvals)
-                if v.is_number and float(v) < 0:
-                    self.problems.append(f"{where}: {key} = {float(v):g} is negative; a friction "
-                                         "coefficient is >= 0")
-                    return None
-            return e
-
-        law, problem = read_infinite(law, where)  # mu = inf: ideal rolling, or a problem
-        if problem or isinstance(law, IdealRolling):
-            self.problems += [problem] if problem else []
-            return None if problem else law
-        if isinstance(law, Coulomb):
-            mu = coefficient(law.mu, "mu")
-            # mu_static defaults to mu: a problem of mu is not reported again under a key the
-            # user did not write
-            mus = coefficient(law.mu_static, "mu_static") if law.mu_static is not None else mu
-            if mu is None or mus is None:
-                return None
-            return Coulomb(mu, mus)
-        if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)):
-            mu = coefficient(law.mu, "mu")
-            if mu is None:
-                return None
-            if not float(law.eps) > 0:
-                self.problems.append(f"{where}: eps must be > 0 (got {law.eps})")
-                return None
-            return type(law)(mu, float(law.eps))
-        self.problems.append(
-            f"{where}: friction must be Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb"
-        )
-        return None
+        normalize_contacts(self)
 
     # -- initial state and settings
     def initial_and_settings(self) -> None:

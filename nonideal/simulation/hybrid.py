@@ -132,10 +132,11 @@ class Simulation:
                 out.append(Touch("contact", name, i))
         for c, (name, cs) in enumerate(mode.contacts):
             bilateral = self.solver.ck.data[c].bilateral
+            torque = c in self.solver.ck.torques  # touches and lifts with its contact: stick, slip only
             if cs.state == SEPARATED:
-                out.append(ContactTouch("touch", name, c))
+                out += [] if torque else [ContactTouch("touch", name, c)]
                 continue
-            if not bilateral:
+            if not bilateral and not torque:
                 out.append(Lift("lift-off", name, c))
             elif cs.state in (SLIDE, SMOOTH):
                 out.append(Lift("normal-sign", name, c, sigma=cs.sigma))
@@ -145,7 +146,7 @@ class Simulation:
                 d = self.solver.ck.dims[c]
                 direction = cs.direction[0] if d == 1 else 1.0
                 out.append(SlipStop("slip-stop", name, c, direction=direction))
-                if self.detect_jam and not bilateral:
+                if self.detect_jam and not bilateral and not torque:
                     out.append(Jam("jam", name, c))
         return out
 

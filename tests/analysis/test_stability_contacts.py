@@ -44,7 +44,7 @@ def disk_constraints():
 def test_contact_disk_is_the_constrained_disk(disk, disk_constraints, W):
     a = linearize(disk, about="steady", at={"phi'": W})
     b = linearize(disk_constraints, about="steady", at={"phi'": W})
-    assert a.contacts == {"floor": "stick"} and not b.contacts
+    assert a.contacts["floor"][0] == "stick" and not b.contacts
     assert a.variables == b.variables
     assert np.max(np.abs(a.A - b.A)) < 1e-9
     assert np.max(np.abs(_sorted(a.eigenvalues) - _sorted(b.eigenvalues))) < 1e-9
@@ -75,7 +75,7 @@ def test_sliding_block_on_belt_closed_form():
     p = model.parameter_values
     m, k, g, mu, v = p["m"], p["k"], p["g"], p["mu"], p["v_b"]
     lin = linearize(model, about="equilibrium")
-    assert lin.contacts == {"belt": "slide"}
+    assert lin.contacts["belt"][0] == "slide"
     assert lin.q["x"] == pytest.approx(mu * m * g / k, rel=1e-12)
     expected = np.concatenate((np.roots([1, 0, k / m]), np.roots([1, mu * g / v, k / m])))
     assert np.max(np.abs(_sorted(lin.eigenvalues) - _sorted(expected))) < 1e-9
@@ -98,3 +98,16 @@ def test_epsilon_linear_law_is_refused():
     smooth = model.replace(contacts=(replace(c, friction=LinearizedCoulomb(c.friction.mu, 0.01)),))
     with pytest.raises(ModelError, match="epsilon-linear law"):
         linearize(smooth, about="equilibrium")
+
+
+def test_pivoting_torque_in_the_linearization():
+    """A disk on a turntable held by a torsion spring pivots at rest: the torque l m g balances
+    the spring at psi = l m g/k, and is constant about it: s^2 + k/I = 0."""
+    model = load_model(DATA_DIR / "torques" / "disk_torsion_turntable.toml")
+    p = model.parameter_values
+    I = p["m"] * p["R"] ** 2 / 2
+    lin = linearize(model, about="equilibrium")
+    assert lin.contacts["table"][0] == "stick" and lin.contacts["table_spin"][0] == "slide-"
+    assert lin.q["psi"] == pytest.approx(p["l"] * p["m"] * p["g"] / p["k"], rel=1e-12)
+    assert lin.variables == ("psi", "psi'")
+    assert np.max(np.abs(_sorted(lin.eigenvalues) - _sorted(np.roots([1, 0, p["k"] / I])))) < 1e-9

@@ -105,7 +105,7 @@ def test_model_with_contacts_is_linearized_in_its_contact_mode(cli):
     eig = sorted(complex(re, im).imag for re, im in d["eigenvalues"])
     assert eig[0] == pytest.approx(-np.sqrt(4 / 2.5 * (1.5 * 25 - 9.81)), rel=1e-9)
     text = cli("stability", path, "--about", "steady", "--at", "phi'=5")
-    assert text.returncode == 0 and "contact 'floor': stick -- gap = 0 holonomic" in text.stdout
+    assert text.returncode == 0 and "contact 'floor': stick -- slip = 0 nonholonomic, gap = 0 holonomic" in text.stdout
 
 
 def test_model_with_an_epsilon_linear_contact_is_refused(cli, tmp_path):

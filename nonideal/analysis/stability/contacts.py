@@ -15,6 +15,10 @@ A model with ``[[contacts]]`` is linearized in the mode its contacts have at the
   gap constraint, with the regularized friction in its reaction when there is one;
 * **separated**: ignored (a perturbation that closes the gap is not linear).
 
+A friction torque (``spin_friction``, ``rolling_friction``) is treated as its contact's slip:
+sticking, its angular-velocity rows are nonholonomic constraints; sliding, its torque
+``-l N w/|w|`` joins the friction in the reaction of its contact's gap.
+
 The perturbations stay on these constraints, exactly as for hand-written ones
 (:mod:`nonideal.analysis.stability.linearize`), so a contact model and the same system
 written with ``[[constraints]]`` give the same matrix ``A``.
@@ -27,12 +31,13 @@ API::
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Mapping
 
 import sympy as sp
 
 from ...errors import ModelError
-from ...modeling.contacts import IdealRolling, LinearizedCoulomb, RegularizedCoulomb
+from ...modeling.contacts import Coulomb, IdealRolling, LinearizedCoulomb, RegularizedCoulomb, torques
 from ...modeling.declarations import Constraint
 from ...modeling.model import Model
 from ...modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
@@ -41,15 +46,25 @@ from .linear_system import parse_state
 __all__ = ["contact_modes", "as_constraints", "guess_state", "described"]
 
 
-def described(label: str) -> str:
-    """How a contact in the mode *label* enters the linearization (for the reports)."""
-    if label.startswith("stick"):
-        return "gap = 0 holonomic, slip = 0 nonholonomic (rolling/sticking)"
-    if label.startswith("slide"):
-        return "gap = 0 holonomic, friction -mu |N| U/|U| in its reaction (sliding)"
-    if label.startswith("smooth"):
-        return "gap = 0 holonomic (touching without a sticking mode)"
-    return "ignored (separated)"
+def described(model: Model, labels: dict[str, str]) -> dict[str, tuple[str, str]]:
+    """``{name: (mode label, how it enters the linearization)}`` of every contact and friction
+    torque of *model* (for the reports)."""
+    torque_names = {name for c in model.contacts for name, _, _ in torques(c)}
+    out = {}
+    for name, label in labels.items():
+        what = "angular velocity" if name in torque_names else "slip"
+        force = "torque -l N w/|w|" if name in torque_names else "friction -mu |N| U/|U|"
+        if label.startswith("stick"):
+            how = f"{what} = 0 nonholonomic" + ("" if name in torque_names else ", gap = 0 holonomic") \
+                + " (sticking" + ("" if name in torque_names else "/rolling") + ")"
+        elif label.startswith("slide"):
+            how = f"{force} in the reaction of the gap = 0 (sliding)"
+        elif label.startswith("smooth"):
+            how = "gap = 0 holonomic (touching without a sticking mode)"
+        else:
+            how = "ignored (separated)"
+        out[name] = (label, how)
+    return out
 
 
 def guess_state(model: Model, about: str, at, symbolic) -> dict[str, float]:
@@ -100,11 +115,14 @@ def _unique(name: str, taken: set[str]) -> str:
 
 def as_constraints(model: Model, mode: Mode) -> tuple[Model, dict[str, str]]:
     """The model without contacts, each touching contact written as the constraint it is in
-    *mode* (see the module docstring); with the mode label of every contact.
+    *mode* (see the module docstring); with the mode label of every contact and friction torque.
 
     The gap of contact ``c`` becomes the holonomic constraint ``c`` (its multiplier
     ``lambda_c`` is the normal force), a sticking contact's slip rows the nonholonomic
-    constraints ``c_slip`` (one component) or ``c_slip1``, ``c_slip2``.
+    constraints ``c_slip`` (one component) or ``c_slip1``, ``c_slip2``; a sticking friction
+    torque's angular-velocity rows the nonholonomic constraints ``c_spin`` / ``c_rolling``
+    (``c_rolling1``, ``c_rolling2``); a sliding one's torque ``-l N w/|w|`` joins the friction
+    in the reaction of the gap.
     """
     taken = {c.name for c in model.constraints}
     added: list[Constraint] = []
@@ -113,26 +131,33 @@ def as_constraints(model: Model, mode: Mode) -> tuple[Model, dict[str, str]]:
     for contact in model.contacts:
         cs = mode.contact(contact.name)
         labels[contact.name] = cs.label()
+        channels = [(contact.name, "_slip", [sp.sympify(u) for u in contact.slip], cs, contact.friction)]
+        for name, rows, length in torques(contact):
+            labels[name] = mode.contact(name).label()
+            channels.append((name, "", [sp.sympify(u) for u in rows], mode.contact(name), Coulomb(length)))
         if cs.state == SEPARATED:
             continue
         gap = sp.sympify(contact.gap)
-        slips = [sp.sympify(u) for u in contact.slip]
         name = _unique(contact.name, taken)
-        if cs.state == STICK:
+        friction = [sp.Integer(0)] * model.n_q     # the sliding friction forces and torques
+        rows_added = []
+        for label, suffix, rows, state, law in channels:
+            if state.state == STICK:
+                for k, U in enumerate(rows):
+                    row = label + suffix + ("" if len(rows) == 1 else str(k + 1))
+                    rows_added.append(Constraint(_unique(row, taken), U, kind="nonholonomic"))
+                continue
+            direction = _friction_direction(replace(contact, friction=law), state, rows)
+            if direction is not None:
+                mu = sp.sympify(law.mu)
+                friction = [f + mu * state.sigma * sum((sp.diff(U, qd[i]) * d for U, d in zip(rows, direction)),
+                                                       sp.Integer(0)) for i, f in enumerate(friction)]
+        if all(f == 0 for f in friction):
             added.append(Constraint(name, gap, kind="holonomic"))
-            for k, U in enumerate(slips):
-                suffix = "_slip" if len(slips) == 1 else f"_slip{k + 1}"
-                added.append(Constraint(_unique(contact.name + suffix, taken), U, kind="nonholonomic"))
-            continue
-        direction = _friction_direction(contact, cs, slips)
-        if direction is None:          # frictionless: the gap alone
-            added.append(Constraint(name, gap, kind="holonomic"))
-            continue
-        mu = sp.sympify(contact.friction.mu)
-        reaction = tuple(sp.diff(gap, q[i]) - mu * cs.sigma
-                         * sum((sp.diff(U, qd[i]) * d for U, d in zip(slips, direction)), sp.Integer(0))
-                         for i in range(model.n_q))
-        added.append(Constraint(name, gap, kind="servo", reaction=reaction))
+        else:
+            reaction = tuple(sp.diff(gap, q[i]) - friction[i] for i in range(model.n_q))
+            added.append(Constraint(name, gap, kind="servo", reaction=reaction))
+        added += rows_added
     return model.replace(contacts=(), constraints=tuple(model.constraints) + tuple(added)), labels
 
 

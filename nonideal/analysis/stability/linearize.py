@@ -164,8 +164,8 @@ class Linearization:
         if self.frequencies:
             out["frequencies"] = list(self.frequencies)
         if self.contacts:
-            out["contacts"] = {name: {"mode": label, "linearized_as": described(label)}
-                               for name, label in self.contacts.items()}
+            out["contacts"] = {name: {"mode": label, "linearized_as": how}
+                               for name, (label, how) in self.contacts.items()}
         return out
 
 
@@ -179,8 +179,8 @@ class Linearization:
         lines.append(f"  state: {state}" + (f", {moving}" if moving else ""))
         if self.residual:
             lines.append(f"  (found by Newton from the guess; residual rate at the guess {self.residual:.3g})")
-        for name, label in self.contacts.items():
-            lines.append(f"  contact '{name}': {label} -- {described(label)}")
+        for name, (label, how) in self.contacts.items():
+            lines.append(f"  contact '{name}': {label} -- {how}")
         lines.append(f"  variables: {', '.join(self.variables)}")
         if self.dependent:
             lines.append(f"  eliminated by the constraints: {', '.join(self.dependent)}")
@@ -421,7 +421,7 @@ def _with_contacts(model: Model, about, at, options) -> Linearization:
         init.update({c + "'": v for c, v in lin.qdot.items()})
         found = {name: cs.label() for name, cs in contact_modes(model, init, t0).contacts}
         if found == labels:
-            return dataclasses.replace(lin, contacts=labels)
+            return dataclasses.replace(lin, contacts=described(model, labels))
         guess = {key: v for key, v in init.items() if about == "steady" or not key.endswith("'")}
     raise LinearizationUndefined(
         "the contacts change mode between the guess and the state found ("
