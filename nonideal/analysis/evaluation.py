@@ -328,7 +328,8 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
         x = solver.input(t, q, qd)
         cout = ck(x)
         Gn, W = cout["Gn"][c].copy(), cout["W"][o:o + d].copy()
-        normal_force = Gn * cf.N
+        # a friction torque: only the torque (its contact's normal force is its contact's)
+        normal_force = Gn * cf.N if c not in ck.torques else np.zeros(n)
         friction_force = cf.F @ W
         generalized = normal_force + friction_force
         if split is not None and name in lam_split:
