@@ -10,6 +10,9 @@ import sympy as sp
 
 from .contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb,
                        TORQUES, is_infinite, read_infinite)
+from .shapes import Point, spin_and_rolling
+from .shapes.geometry import fold
+from .shapes.reading import shape_contact
 from .symbols import is_identifier
 from .values import derivative_order, identically_zero, parameter_values
 
@@ -33,6 +36,10 @@ def normalize_contacts(self) -> None:
                 f" (the friction torque of contact '{owner}' is reported under that name)" if owner else ""))
             continue
         names.add(ct.name)
+        if ct.geometry is None and (ct.shape is not None or ct.body is not None or ct.gap is None):
+            ct = shape_contact(ct, where, m, lambda v, w: self.expr(v, w, 0), self.problems)
+            if ct is None:
+                continue
         gap = self.smooth(self.expr(ct.gap, f"{where}: gap", 2), f"{where}: gap")
         if gap is None:
             continue
@@ -71,7 +78,8 @@ def normalize_contacts(self) -> None:
         extra = _torques(self, ct, where, names)
         if extra is None:
             continue
-        out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral), **extra))
+        out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral),
+                           ct.body, ct.shape, ct.surface, ct.geometry, **extra))
     self.set("contacts", tuple(out))
     # the multipliers are printed as lambda_<constraint>: a parameter or coordinate of that
     # name would read like a multiplier in every equation
@@ -114,6 +122,11 @@ def _torques(self, ct, where: str, names: set) -> dict | None:
         rows, length = getattr(ct, rows_key), getattr(ct, length_key)
         if rows is None and length is None:
             continue
+        if ct.geometry is not None:     # a contact from geometry: the angular velocity is derived
+            rows = _derived(self, ct, where, rows_key, length_key, rows)
+            if rows is None:
+                ok = False
+                continue
         if length is None:
             self.problems.append(f"{where}: {rows_key} is given without {length_key}; it is read only by "
                                  f"{length_key} (a length): add {length_key} = \"...\" or remove {rows_key}")
@@ -168,6 +181,32 @@ def _torques(self, ct, where: str, names: set) -> dict | None:
         out[rows_key] = parsed[0] if rows_key == "spin" else tuple(parsed)
         out[length_key] = value
     return out if ok else None
+
+
+def _derived(self, ct, where: str, rows_key: str, length_key: str, given):
+    """The spin (one expression) or the rolling components along the surface's tangents t1, t2
+    of a contact from geometry (:func:`~nonideal.modeling.shapes.spin_and_rolling`); None with
+    the problem recorded."""
+    if given is not None:
+        self.problems.append(f"{where}: {rows_key} is derived from the shape and the surface; remove it")
+        return None
+    if isinstance(ct.shape, Point):
+        self.problems.append(f"{where}: {length_key} on a point contact (shape type \"point\"): a point has no "
+                             f"contact patch to resist {'pivoting' if rows_key == 'spin' else 'rolling'}; "
+                             f"remove {length_key}, or give the body a shape with a radius (sphere, "
+                             "ellipsoid, paraboloid, disk)")
+        return None
+    spin, rolling = spin_and_rolling(ct.geometry)
+    if rows_key == "spin":
+        rows = [fold(spin)]
+    else:
+        rows = [fold((tk.T * rolling)[0]) for tk in ct.geometry.tangents]
+        rows = [w for w in rows if sp.expand(w) != 0]   # a component the coordinates cannot produce
+    if not rows or all(sp.expand(w) == 0 for w in rows):
+        self.problems.append(f"{where}: body '{ct.body}' cannot {'pivot' if rows_key == 'spin' else 'roll'} "
+                             f"on the surface with these coordinates ({rows_key} vanishes); remove {length_key}")
+        return None
+    return rows[0] if rows_key == "spin" else tuple(rows)
 
 
 def _friction(self, law: Any, where: str):
