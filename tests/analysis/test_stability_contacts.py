@@ -2,8 +2,9 @@
 is in its mode -- rolling (gap holonomic, slip rows nonholonomic), sliding (the friction force
 with the current slip direction in the gap's reaction).
 
-* the rolling disk written with a contact (``mu = inf``) against the gallery's disk with two
-  hand-written rolling constraints: the same ``A`` and eigenvalues, and the classical
+* the rolling disk written with a contact (``mu = inf``; gap and slip by hand, or from the
+  disk's shape) against the gallery's disk with two hand-written rolling constraints: the
+  same ``A`` and eigenvalues, and the classical
   threshold of upright rolling ``W^2 > g/(3 r)`` (Neimark & Fufaev) reproduced from the contact;
 * a block held by springs on a moving belt (sliding at rest): the friction is a damping
   ``mu m g/v_b`` across the belt, so ``s^2 + (mu g/v_b) s + k/m = 0`` across and ``s^2 + k/m``
@@ -49,6 +50,18 @@ def test_contact_disk_is_the_constrained_disk(disk, disk_constraints, W):
     assert np.max(np.abs(a.A - b.A)) < 1e-9
     assert np.max(np.abs(_sorted(a.eigenvalues) - _sorted(b.eigenvalues))) < 1e-9
     assert a.verdict == b.verdict
+
+
+@pytest.mark.parametrize("W", [5.0, 2.5])
+def test_shape_disk_is_the_constrained_disk(disk_constraints, W):
+    """The same disk from its shape (the rim of a disk on the plane z = 0): gap and slip derived
+    by the library, then linearized as the rolling constraints they are."""
+    shaped = load_model(DATA_DIR / "contacts" / "rolling_disk_shape.toml")
+    a = linearize(shaped, about="steady", at={"phi'": W})
+    b = linearize(disk_constraints, about="steady", at={"phi'": W})
+    assert a.contacts["floor"][0] == "stick" and a.variables == b.variables
+    assert np.max(np.abs(a.A - b.A)) < 1e-9
+    assert np.max(np.abs(_sorted(a.eigenvalues) - _sorted(b.eigenvalues))) < 1e-9
 
 
 def test_upright_rolling_threshold_from_the_contact(disk):
