@@ -8,15 +8,29 @@ from typing import Any
 
 import sympy as sp
 
-from .contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb,
-                       TORQUES, is_infinite, read_infinite)
+from .contacts import TORQUES, Contact, Newton, Plastic, is_infinite, normalize_friction
 from .shapes import Point, spin_and_rolling
 from .shapes.geometry import fold
 from .shapes.reading import shape_contact
 from .symbols import is_identifier
 from .values import derivative_order, identically_zero, parameter_values
 
-__all__ = ["normalize_contacts"]
+__all__ = ["normalize_contacts", "torque_keys"]
+
+
+def torque_keys(table: dict, check, where: str) -> dict | None:
+    """The friction torque keys of a model file's ``[[contacts]]`` table (``spin``, ``rolling``,
+    ``spin_friction``, ``rolling_friction``) as :class:`Contact` keyword arguments, their types
+    checked by *check* (a :class:`~nonideal.modeling.filechecks.Checker`); None after a problem."""
+    if "spin" in table and not check.expr(table, "spin", where):
+        return None
+    if "rolling" in table and not check.expr_list(table, "rolling", where, (1, 2), allow_scalar=True):
+        return None
+    if not all(check.expr(table, key, where) for key in ("spin_friction", "rolling_friction") if key in table):
+        return None
+    rolling = table.get("rolling")
+    return dict(spin=table.get("spin"), rolling=tuple(rolling) if isinstance(rolling, list) else rolling,
+                spin_friction=table.get("spin_friction"), rolling_friction=table.get("rolling_friction"))
 
 
 def normalize_contacts(self) -> None:
@@ -65,7 +79,7 @@ def normalize_contacts(self) -> None:
                 slips.append(e)
         if len(slips) != len(ct.slip):
             continue
-        friction = _friction(self, ct.friction, where)
+        friction = normalize_friction(self, ct.friction, where)
         impact = ct.impact
         if not isinstance(impact, (Plastic, Newton)):
             self.problems.append(f"{where}: impact must be Plastic() or Newton(e)")
@@ -207,45 +221,3 @@ def _derived(self, ct, where: str, rows_key: str, length_key: str, given):
                              f"on the surface with these coordinates ({rows_key} vanishes); remove {length_key}")
         return None
     return rows[0] if rows_key == "spin" else tuple(rows)
-
-
-def _friction(self, law: Any, where: str):
-    pvals = parameter_values(self.m.parameters)
-
-    def coefficient(value: Any, key: str):
-        e = self.expr(value, f"{where}: {key}", 0)
-        if e is None:
-            return None
-        if not e.free_symbols & set(self.m.q):
-            v = e.xreplace(pvals)
-            if v.is_number and float(v) < 0:
-                self.problems.append(f"{where}: {key} = {float(v):g} is negative; a friction "
-                                     "coefficient is >= 0")
-                return None
-        return e
-
-    law, problem = read_infinite(law, where)  # mu = inf: ideal rolling, or a problem
-    if problem or isinstance(law, IdealRolling):
-        self.problems += [problem] if problem else []
-        return None if problem else law
-    if isinstance(law, Coulomb):
-        mu = coefficient(law.mu, "mu")
-        # mu_static defaults to mu: a problem of mu is not reported again under a key the
-        # user did not write
-        mus = coefficient(law.mu_static, "mu_static") if law.mu_static is not None else mu
-        if mu is None or mus is None:
-            return None
-        return Coulomb(mu, mus)
-    if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)):
-        mu = coefficient(law.mu, "mu")
-        if mu is None:
-            return None
-        if not float(law.eps) > 0:
-            self.problems.append(f"{where}: eps must be > 0 (got {law.eps})")
-            return None
-        return type(law)(mu, float(law.eps))
-    self.problems.append(
-        f"{where}: friction must be Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb"
-    )
-    return None
-

@@ -17,6 +17,8 @@ from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
+from .normalize_kinematics import (norm_constraints, normalize_kinematics, normalize_quaternion_initial,
+                                   resolve_body)
 from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
 
@@ -29,6 +31,7 @@ class Normalizer:
     def __init__(self, model, problems: list[str]):
         self.m, self.problems = model, problems
         self._names: dict[int, dict[str, sp.Expr]] = {}   # by derivative order, once known
+        self.kinematics = None    # the frames and points, once normalized
 
     def set(self, name: str, value: Any) -> None:
         object.__setattr__(self.m, name, value)
@@ -61,7 +64,7 @@ class Normalizer:
 
     def expr(self, value: Any, where: str, order: int = 1) -> sp.Expr | None:
         try:
-            return to_expr(value, self.names(order), where, self.m.coordinates)
+            return to_expr(value, self.names(order), where, self.m.coordinates, self.kinematics)
         except ExpressionError as exc:
             self.problems.extend(exc.problems)
             self.unknown.extend(exc.unknown)
@@ -72,8 +75,10 @@ class Normalizer:
         self.names_and_parameters()
         if self.problems:
             return
+        self.kinematics = normalize_kinematics(self)
+        self.m.__dict__["_kinematics"] = self.kinematics
+        self.bodies_and_loads()      # first: momentum(body) may appear in energies and forces
         self.energy_and_forces()
-        self.bodies_and_loads()
         normalize_controls(self)
         self.constraints()
         self.contacts()
@@ -210,11 +215,14 @@ class Normalizer:
             if b.name in names:
                 self.problems.append(f"{where}: duplicate body name")
             names.add(b.name)
+            b = resolve_body(self, self.kinematics, b, where)
+            if b is None:
+                continue
             mass = self.expr(b.mass, f"{where}: mass", 0)
             if isinstance(b, Particle):
                 pos = self.vector(b.position, f"{where}: position", (2, 3))
                 if mass is not None and pos is not None:
-                    bodies.append(Particle(b.name, mass, pos))
+                    bodies.append(replace(b, mass=mass, position=pos))
             elif isinstance(b, PlanarBody):
                 pos = self.vector(b.position, f"{where}: position", (2,))
                 inertia = self.expr(b.inertia, f"{where}: inertia", 0)
@@ -228,10 +236,12 @@ class Normalizer:
                 if len(rows_i) != 3 or len(rows_r) != 3:
                     self.problems.append(f"{where}: inertia and rotation must be 3x3")
                 elif None not in (mass, pos, *rows_i, *rows_r):
-                    bodies.append(RigidBody(b.name, mass, tuple(rows_i), pos, tuple(rows_r)))
+                    bodies.append(replace(b, mass=mass, inertia=tuple(rows_i), position=pos,
+                                          rotation=tuple(rows_r)))
             else:
                 self.problems.append(f"{where}: not a Particle, PlanarBody or RigidBody")
         self.set("bodies", tuple(bodies))
+        self.kinematics.bodies = {b.name: b for b in bodies}
         if m.gravity is not None:
             self.set("gravity", self.vector(m.gravity, "[gravity] vector", (2, 3)))
         loads = []
@@ -282,7 +292,7 @@ class Normalizer:
     def constraints(self) -> None:
         m = self.m
         out, names = [], set()
-        for c in m.constraints:
+        for c in norm_constraints(self.kinematics, m.constraints, self.problems):
             where = f"constraint '{c.name}'"
             if not isinstance(c.name, str) or not is_identifier(c.name):
                 self.problems.append(f"{where}: name must be an identifier (letters, digits, _)")
@@ -456,7 +466,9 @@ class Normalizer:
                 self.problems.extend(bad)
                 continue
             out[key] = e
+        out, problems = normalize_quaternion_initial(self.kinematics, out, values)
         self.set("initial", out)
+        self.problems += problems
         if m.independent is not None:
             ind = tuple(m.independent)
             for name in ind:

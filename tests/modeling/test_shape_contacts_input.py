@@ -131,3 +131,63 @@ def test_python_api_with_shape_objects():
                                           friction=IdealRolling()),))
     assert api.contacts[0].gap == model.contacts[0].gap
     assert api.contacts[0].slip == model.contacts[0].slip
+
+
+FRAMES = """
+[model]
+name = "offset ball"
+[parameters]
+m = 1.0
+r = 0.1
+e = 0.03
+g = 9.81
+[coordinates]
+q = ["x", "y", "z", "a", "b", "c"]
+[[frames]]
+name = "B"
+rotation = "body ZYX"
+angles = ["c", "b", "a"]
+[[points]]
+name = "G"
+position = ["x", "y", "z"]
+[[points]]
+name = "K"
+frame = "B"
+from = "G"
+position = [0, 0, "e"]
+[[points]]
+name = "S"
+position = ["x", "y", "z - r"]
+[[bodies]]
+type = "rigid"
+name = "ball"
+mass = "m"
+inertia = [["0.004", "0", "0"], ["0", "0.004", "0"], ["0", "0", "0.003"]]
+frame = "B"
+center = "G"
+[gravity]
+vector = ["0", "0", "-g"]
+[[contacts]]
+name = "floor"
+body = "ball"
+shape = {type = "sphere", radius = "r", center = CENTER}
+mu = 0.3
+[initial]
+x = 0.0
+y = 0.0
+a = 0.2
+b = 0.1
+c = 0.0
+"""
+
+
+def test_center_may_name_a_point_fixed_in_the_body():
+    import sympy as sp
+    named = model_from_dict(tomllib.loads(FRAMES.replace("CENTER", '"K"')), "ball.toml")
+    listed = model_from_dict(tomllib.loads(FRAMES.replace("CENTER", '[0, 0, "e"]')), "ball.toml")
+    assert sp.simplify(named.contacts[0].gap - listed.contacts[0].gap) == 0
+    assert all(sp.simplify(u - v) == 0 for u, v in zip(named.contacts[0].slip, listed.contacts[0].slip))
+    with pytest.raises(ModelError, match="center 'Q' is not a point of the model"):
+        model_from_dict(tomllib.loads(FRAMES.replace("CENTER", '"Q"')), "ball.toml")
+    with pytest.raises(ModelError, match="center 'S' moves in the body"):
+        model_from_dict(tomllib.loads(FRAMES.replace("CENTER", '"S"')), "ball.toml")

@@ -105,9 +105,11 @@ def fold(expr: sp.Expr) -> sp.Expr:
     return sp.expand(expr.xreplace(powers)) if powers else expr
 
 
-def contact_geometry(shape: Shape, surface: Plane, rotation, position, q, qd, t) -> ContactGeometry:
+def contact_geometry(shape: Shape, surface: Plane, rotation, position, q, qd, t,
+                     omega=None) -> ContactGeometry:
     """Gap, slip and angular velocities of *shape* (fixed in the body with *rotation* R, body
-    -> N, 3x3, and centre *position*, 3 expressions) touching *surface*.
+    -> N, 3x3, and centre *position*, 3 expressions) touching *surface*; *omega* (N axes) is the
+    body's angular velocity when known (a frame in Euler parameters), else derived from R.
 
     Examples
     --------
@@ -131,7 +133,7 @@ def contact_geometry(shape: Shape, surface: Plane, rotation, position, q, qd, t)
     rel = shape.support_in(n, R)
     P = rG + rel
     vG = rG.applyfunc(lambda x: _dt(x, q, qd, t))
-    omega = angular_velocity(R, q, qd, t)
+    omega = angular_velocity(R, q, qd, t) if omega is None else sp.Matrix(omega).applyfunc(fold)
     v = vG + omega.cross(rel) - surface.material_velocity(P)
     slip = (fold((t1.T * v)[0]), fold((t2.T * v)[0]))
     validity = shape.validity(n_b)

@@ -64,7 +64,10 @@ def shape_contact(ct, where: str, model, parse: Callable[[Any, str], Any], probl
             return None
         return e
 
-    shape = read_shape(ct.shape, f"{where}: shape", checked, found)
+    given = _named_center(ct.shape, body, model, f"{where}: shape", problems)
+    if given is None:
+        return None
+    shape = read_shape(given, f"{where}: shape", checked, found)
     surface = read_surface(ct.surface, f"{where}: surface", checked, found)
     if shape is not None and surface is not None:
         found += shape.check(values, f"{where}: shape")
@@ -80,7 +83,9 @@ def shape_contact(ct, where: str, model, parse: Callable[[Any, str], Any], probl
     if found or shape is None or surface is None:
         problems += found
         return None
-    geometry = contact_geometry(shape, surface, body.rotation, body.position, model.q, model.qd, t)
+    omega = getattr(body, "omega", None)   # body axes, when the body is given by a frame
+    geometry = contact_geometry(shape, surface, body.rotation, body.position, model.q, model.qd, t,
+                                omega=None if omega is None else sp.Matrix(body.rotation) * sp.Matrix(omega))
     # a component the coordinates cannot produce (a planar model's sideways slip) is left out
     slip = tuple(u for u in geometry.slip if sp.expand(u) != 0)
     if not slip:
@@ -89,3 +94,33 @@ def shape_contact(ct, where: str, model, parse: Callable[[Any, str], Any], probl
                         "constraint instead")
         return None
     return replace(ct, gap=geometry.gap, slip=slip, shape=shape, surface=surface, geometry=geometry)
+
+
+def _named_center(shape, body, model, where: str, problems: list[str]):
+    """*shape* with a ``center`` that names a point (``center = "O"``) replaced by that point's
+    components in the body's axes from its centre of mass, ``R^T (pos(O) - pos(G))`` -- which
+    must not change as the body moves (a point fixed in the body)."""
+    from dataclasses import is_dataclass
+
+    from .geometry import fold
+
+    name = shape.get("center") if isinstance(shape, dict) else getattr(shape, "center", None)
+    if not isinstance(name, str):
+        return shape
+    kin = model.__dict__.get("_kinematics")
+    known = kin.names_of("point") if kin is not None else []
+    if name not in known:
+        problems.append(f"{where}: center '{name}' is not a point of the model{did_you_mean(name, known)}; "
+                        "declare it in [[points]] (fixed in the body) or give center = [x, y, z] in "
+                        "the body's axes from its centre of mass")
+        return None
+    R = sp.Matrix(body.rotation)
+    offset = sp.Matrix(kin.pos(name).components) - sp.Matrix(list(body.position))
+    local = (R.T * offset).applyfunc(fold)
+    if any(e.free_symbols & (set(model.q) | {t}) for e in local):
+        problems.append(f"{where}: center '{name}' moves in the body of '{body.name}' (its position in "
+                        f"the body's axes is {list(local)}); a shape's centre is a point fixed in its body")
+        return None
+    center = tuple(local)
+    return {**shape, "center": list(center)} if isinstance(shape, dict) else (
+        replace(shape, center=center) if is_dataclass(shape) else shape)
