@@ -8,7 +8,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-__all__ = ["plot_trajectory", "mode_colors", "angle_coordinates"]
+__all__ = ["plot_trajectory", "mode_colors", "angle_coordinates", "mode_intervals"]
 
 #: colours of the contact states in the mode timeline ("(N<0)" labels take their state's colour)
 PALETTE = {"separated": "#dddddd", "stick": "#2a9d8f", "slide+": "#e76f51", "slide-": "#f4a261",
@@ -164,7 +164,8 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
     if controls:
         ax = axes[k + 3]
         for name, c in controls.items():
-            ax.plot(t, c["force"], label=f"u {name}")
+            if "force" in c:        # a program realized by shared controls has none
+                ax.plot(t, c["force"], label=f"u {name}")
         ax.set_ylabel("control force\n(model units)")
         ax2 = ax.twinx()
         for name, c in controls.items():
@@ -177,13 +178,9 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
         names = list(traj.contacts)
         colors = mode_colors(traj)
         for j, name in enumerate(names):
-            modes = traj.contacts[name]["mode"]
-            start = 0
-            for i in range(1, len(t) + 1):
-                if i == len(t) or modes[i] != modes[start]:
-                    ax.barh(j, t[min(i, len(t) - 1)] - t[start], left=t[start],
-                            color=colors[modes[start].replace("(N<0)", "")], edgecolor="none")
-                    start = i
+            for left, right, mode in mode_intervals(traj, name):
+                ax.barh(j, right - left, left=left, color=colors[mode.replace("(N<0)", "")],
+                        edgecolor="none")
         ax.set_yticks(range(len(names)), names)
         handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in colors.values()]
         ax.legend(handles, list(colors), fontsize=7, ncol=len(colors), loc="lower left",
@@ -198,6 +195,27 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=110, format="png")
     plt.close(fig)
+
+
+def mode_intervals(traj, name: str) -> list[tuple[float, float, str]]:
+    """``(start, end, mode)`` of contact *name* over the run: a change of mode between two
+    samples is put at the instant of the event between them (the last such), not at a sample.
+    """
+    t = np.asarray(traj.t, dtype=float)
+    modes = traj.contacts[name]["mode"]
+    if not len(t):
+        return []
+    events = sorted(float(e["t"]) for e in traj.events)
+    out, start, left = [], 0, float(t[0])
+    for i in range(1, len(t) + 1):
+        if i == len(t):
+            out.append((left, float(t[-1]), modes[start]))
+        elif modes[i] != modes[start]:
+            inside = [te for te in events if t[i - 1] < te <= t[i]]
+            switch = inside[-1] if inside else float(t[i])
+            out.append((left, switch, modes[start]))
+            start, left = i, switch
+    return out
 
 
 #: the quantity a sweep plots when none is named, by command

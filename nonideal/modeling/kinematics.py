@@ -13,13 +13,18 @@ in N by the two-point and one-point theorems (Kane & Levinson 1985, ch. 2):
 velocity ``w``, acceleration ``alpha``).  Expressions are SymPy, in the model's symbols
 ``x``, ``x'``, ``x''`` and ``t``; each quantity is computed on first use and kept.
 
-Euler parameters (a frame given by ``quaternion``) keep their norm at one through an internal
-holonomic constraint ``e0^2 + e1^2 + e2^2 + e3^2 - 1 = 0`` named ``<frame>_norm`` (its
-multiplier is not a physical reaction), and the kinetic energy gains ``c/2 (e . e')^2``: this
-term and its Lagrange derivative vanish on the constraint (``e . e' = 0``,
-``e . e'' + e' . e' = 0``) and its generalized force ``c (e . e')' e`` lies along the
-constraint's gradient anyway, so the motion is unchanged, but the mass matrix becomes
-positive definite (the rotational energy alone is blind to the radial rate ``e . e'``).
+Euler parameters (a frame given by ``quaternion``) keep their norm at one with no constraint.
+The frame turns by the rotation of ``e/|e|`` (``R(e)/|e|^2``, angular velocity
+``2 (e0 e' - e0' e +- e x e')/|e|^2``), so every position, angular velocity and load is
+invariant under ``e -> k e`` and blind to the radial rate ``e . e'``: their generalized forces
+have no component along ``e``.  The kinetic energy gains ``c/2 (e . e')^2``, whose Lagrange
+derivative along ``e`` is ``c |e|^2 (e . e')'``: the equation of motion along ``e`` is
+``(e . e')' = 0``, so ``e . e'`` -- zero at t0, the initial rates are projected on the
+sphere -- stays zero and ``|e|`` stays one; the term itself vanishes on that motion, and it
+makes the mass matrix positive definite.  No multiplier is solved for: the motion is
+integrated like that of independent coordinates (faster than Euler angles on the heavy top:
+benchmarks/bench_euler_parameters.py), and a drift of ``|e|`` at the integrator's tolerance
+changes no physical quantity.
 """
 
 from __future__ import annotations
@@ -29,7 +34,7 @@ from collections.abc import Callable, Mapping, Sequence
 import sympy as sp
 
 from ..errors import did_you_mean
-from .frames import FIXED, ORIGIN, relative
+from .frames import FIXED, ORIGIN, matmul, relative
 from .vectors import AXES, Unknown, Vector, add, as_basic, cross, zero
 
 __all__ = ["Kinematics", "RESERVED_KINEMATIC_NAMES"]
@@ -96,7 +101,7 @@ class Kinematics:
         def build():
             R = self._relative(name)[0]
             parent = self.frames[name][0]
-            return R if parent == FIXED else self.rotation(parent) * R
+            return R if parent == FIXED else matmul(self.rotation(parent), R)
         return self._memo(("R", name), build)
 
     def omega(self, name: str) -> Vector:
@@ -109,7 +114,7 @@ class Kinematics:
             w = self._relative(name)[1]
             if parent == FIXED:
                 return Vector(list(w))
-            return self.omega(parent) + Vector(list(self.rotation(parent) * w))
+            return self.omega(parent) + Vector(list(matmul(self.rotation(parent), w)))
         return self._memo(("w", name), build)
 
     def omega_own(self, name: str) -> sp.Matrix:
@@ -120,7 +125,7 @@ class Kinematics:
         def build():
             parent = self.frames[name][0]
             R, _, w = self._relative(name)
-            return w if parent == FIXED else R.T * self.omega_own(parent) + w
+            return w if parent == FIXED else matmul(R.T, self.omega_own(parent)) + w
         return self._memo(("w_own", name), build)
 
     def alpha(self, name: str) -> Vector:
@@ -132,21 +137,30 @@ class Kinematics:
         return Vector(list(self.rotation(name)[:, axis]))
 
     # ---------------------------------------------------------------- points
-    def _offset(self, name: str):
-        """``(R p, R p', R p'')`` of point *name* from its origin (N components; None when
-        the position components are constants)."""
+    def _offset(self, name: str, order: int = 0):
+        """``R p`` (order 0), ``R p'`` (1) or ``R p''`` (2) of point *name* from its origin, in N
+        components: the position and the relative velocity and acceleration in its frame's
+        axes, turned into N.  None for orders 1, 2 when the components are constants.  Each
+        computed only when asked (a contact point's position is used, rarely its rates)."""
         def build():
             _, frame, p = self.points[name]
-            R = self.rotation(frame)
-            moving = any(self._moves(c) for c in p)
-            pd = [self.dt(c) for c in p] if moving else None
-            r = Vector(list(R * sp.Matrix(p))) if frame != FIXED else Vector(p)
-            if pd is None:
-                return r, None, None
-            pdd = [self.dt(c) for c in pd]
-            turn = (lambda v: Vector(list(R * sp.Matrix(v)))) if frame != FIXED else Vector
-            return r, turn(pd), turn(pdd)
-        return self._memo(("offset", name), build)
+            if order == 0:
+                comps = p
+            elif not any(self._moves(c) for c in p):
+                return None
+            else:
+                below = self._components(name, order - 1)
+                comps = [self.dt(c) for c in below]
+            self._cache[("comps", name, order)] = comps
+            if frame == FIXED:
+                return Vector(comps)
+            return Vector(list(matmul(self.rotation(frame), sp.Matrix(comps))))
+        return self._memo(("offset", name, order), build)
+
+    def _components(self, name: str, order: int):
+        """The components (in the frame's axes) of the position's *order*-th derivative."""
+        self._offset(name, order)
+        return self._cache[("comps", name, order)]
 
     def _moves(self, expr) -> bool:
         return any(s in self._next or s == self.t for s in as_basic(expr).free_symbols)
@@ -158,7 +172,7 @@ class Kinematics:
 
         def build():
             origin = self.points[name][0]
-            r = self._offset(name)[0]
+            r = self._offset(name)
             return r if origin == ORIGIN else self.pos(origin) + r
         return self._memo(("pos", name), build)
 
@@ -169,7 +183,7 @@ class Kinematics:
 
         def build():
             origin, frame, _ = self.points[name]
-            r, rd, _ = self._offset(name)
+            r, rd = self._offset(name), self._offset(name, 1)
             parts = [] if origin == ORIGIN else [self.vel(origin)]
             if rd is not None:
                 parts.append(rd)
@@ -185,7 +199,8 @@ class Kinematics:
 
         def build():
             origin, frame, _ = self.points[name]
-            r, rd, rdd = self._offset(name)
+            r, rd = self._offset(name), self._offset(name, 1)
+            rdd = self._offset(name, 2) if rd is not None else None
             parts = [] if origin == ORIGIN else [self.acc(origin)]
             if rd is not None:
                 parts.append(rdd)

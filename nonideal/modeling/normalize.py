@@ -17,8 +17,7 @@ from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
-from .normalize_kinematics import (norm_constraints, normalize_kinematics, normalize_quaternion_initial,
-                                   resolve_body)
+from .normalize_kinematics import normalize_kinematics, normalize_quaternion_initial, resolve_body
 from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
 
@@ -155,7 +154,8 @@ class Normalizer:
             params[name] = p
         values, problems = resolve_parameters({n: p.value for n, p in params.items()})
         self.problems += problems
-        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description)
+        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description,
+                                             p.value if isinstance(p.value, str) else p.definition)
                                 for n, p in params.items() if n in values})
 
     # -- energy
@@ -292,7 +292,7 @@ class Normalizer:
     def constraints(self) -> None:
         m = self.m
         out, names = [], set()
-        for c in norm_constraints(self.kinematics, m.constraints, self.problems):
+        for c in m.constraints:
             where = f"constraint '{c.name}'"
             if not isinstance(c.name, str) or not is_identifier(c.name):
                 self.problems.append(f"{where}: name must be an identifier (letters, digits, _)")

@@ -328,7 +328,7 @@ def _locate_minimum(sim, traj, allm: np.ndarray, k: int, names: list[str]):
     if mode.label() != traj.modes[lo]:
         return None
     fun = sim.rhs(mode)
-    y0 = np.concatenate((y0, np.zeros(N_WORK if sim.track else 0)))  # the works restart at 0
+    y0 = np.concatenate((y0, np.zeros(N_WORK + len(sim.control_rows) if sim.track else 0)))  # works from 0
     atol = sim.work_tolerances() if sim.track else sim.atol
     ode = solve_ivp(fun, (float(t[lo]), float(t[hi])), y0, method=sim.method, rtol=sim.rtol,
                     atol=atol, dense_output=True)
