@@ -135,7 +135,7 @@ def contact_geometry(shape: Shape, surface: Plane, rotation, position, q, qd, t,
     vG = rG.applyfunc(lambda x: _dt(x, q, qd, t))
     omega = angular_velocity(R, q, qd, t) if omega is None else sp.Matrix(omega).applyfunc(fold)
     v = vG + omega.cross(rel) - surface.material_velocity(P)
-    slip = (fold((t1.T * v)[0]), fold((t2.T * v)[0]))
+    slip = ((t1.T * v)[0], (t2.T * v)[0])
     validity = shape.validity(n_b)
     return ContactGeometry(n, (t1, t2), P, offset + shape.support(n_b), gap, slip, omega,
                            omega - surface.angular_velocity, validity)

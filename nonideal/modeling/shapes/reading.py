@@ -87,7 +87,8 @@ def shape_contact(ct, where: str, model, parse: Callable[[Any, str], Any], probl
     geometry = contact_geometry(shape, surface, body.rotation, body.position, model.q, model.qd, t,
                                 omega=None if omega is None else sp.Matrix(body.rotation) * sp.Matrix(omega))
     # a component the coordinates cannot produce (a planar model's sideways slip) is left out
-    slip = tuple(u for u in geometry.slip if sp.expand(u) != 0)
+    moving = set(model.qd)
+    slip = tuple(u for u in geometry.slip if u.free_symbols & moving or sp.expand(u) != 0)
     if not slip:
         problems.append(f"{where}: the contact point of body '{ct.body}' cannot move along the "
                         "surface with these coordinates (both slip components vanish); declare a "
