@@ -14,6 +14,7 @@ from typing import Any
 
 from ..numeric.consistency import complete_state
 from ..equations.high_order import extended
+from ..modeling.contacts import torques
 from ..modeling.model import Model
 from ..modeling.symbols import to_sp
 from ..modes.diagnosis import diagnose_state
@@ -75,6 +76,9 @@ class CheckReport:
             held = "= 0 (bilateral guide, N of either sign)" if ct["bilateral"] else ">= 0"
             lines.append(f"    - contact {ct['name']}: gap {ct['gap']} {held}, slip {ct['slip']}, "
                          f"friction {ct['friction']}" + friction_text(ct))
+            for tq in ct["torques"]:
+                lines.append(f"      friction torque {tq['name']}: angular velocity {tq['angular_velocity']}, "
+                             f"bounded by {tq['length']} N (Coulomb's law on the angular velocity)")
         lines.append("  initial state: " + ", ".join(f"{k} = {v:.10g}" for k, v in self.initial.items()))
         lines.append(f"  initial mode: {self.initial_mode}")
         lines += [f"  note: {n}" for n in self.notes]
@@ -112,7 +116,9 @@ def check_model(model: Model) -> CheckReport:
     for ct in model.contacts:
         law = type(ct.friction).__name__
         contacts.append({"name": ct.name, "gap": str(ct.gap), "slip": [str(s) for s in ct.slip],
-                         "friction": law, "bilateral": ct.bilateral})
+                         "friction": law, "bilateral": ct.bilateral,
+                         "torques": [{"name": name, "angular_velocity": [str(w) for w in rows], "length": str(length)}
+                                     for name, rows, length in torques(ct)]})
     servo = [c for c in model.constraints if c.reaction_kind != "ideal"]
     several = [c for c in servo if c.controls is not None]
     if servo:

@@ -207,15 +207,15 @@ def _complete_at(kernel, model: Model, at, params, t):
 def painleve_split(M: np.ndarray, G: np.ndarray, R: np.ndarray):
     """Split a generalized reaction ``R`` into ``G^T lambda`` and the friction part ``P R``.
 
-    Returns ``(lambda, friction_part)`` or ``None`` when ``M`` is singular.
+    Returns ``(lambda, friction_part)`` or ``None`` when ``M`` is singular or the rows ``G``
+    are dependent (statically indeterminate: the constraint parts of the rows are not unique).
     """
     try:
         Minv_GT = np.linalg.solve(M, G.T)
         Minv_R = np.linalg.solve(M, R)
+        lam = np.linalg.solve(G @ Minv_GT, G @ Minv_R)
     except np.linalg.LinAlgError:
         return None
-    S = G @ Minv_GT
-    lam = np.linalg.solve(S, G @ Minv_R)
     return lam, R - G.T @ lam
 
 
@@ -328,7 +328,8 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
         x = solver.input(t, q, qd)
         cout = ck(x)
         Gn, W = cout["Gn"][c].copy(), cout["W"][o:o + d].copy()
-        normal_force = Gn * cf.N
+        # a friction torque: only the torque (its contact's normal force is its contact's)
+        normal_force = Gn * cf.N if c not in ck.torques else np.zeros(n)
         friction_force = cf.F @ W
         generalized = normal_force + friction_force
         if split is not None and name in lam_split:

@@ -32,6 +32,7 @@ from ..errors import ModelError, SingularSystem
 from ..modeling.model import Constraint, Model
 from ..modeling.symbols import to_se
 from .algebra import count_ops, cross
+from .contact_data import ContactData
 
 __all__ = ["Dynamics", "ConstraintRow", "dynamics_of"]
 
@@ -518,25 +519,32 @@ class Dynamics:
 
     # ------------------------------------------------------------ contacts
     @cached_property
-    def contacts(self) -> list["ContactData"]:
-        """Symbolic data of every contact (gap row, slip rows, friction coefficients)."""
-        return [self._contact(c) for c in self.model.contacts]
+    def contacts(self) -> list[ContactData]:
+        """Symbolic data of every contact (gap row, slip rows, friction coefficients), then of
+        every friction torque as a contact of its own that shares its contact's gap and normal
+        force (``parent``): its "slip" the angular velocity, its coefficient the length."""
+        from ..modeling.contacts import Coulomb, torques
 
-    def _contact(self, c) -> "ContactData":
+        data = [self._contact(c.name, c.gap, c.slip, c.friction, c) for c in self.model.contacts]
+        for k, c in enumerate(self.model.contacts):
+            data += [self._contact(name, c.gap, rows, Coulomb(length), c, parent=k)
+                     for name, rows, length in torques(c)]
+        return data
+
+    def _contact(self, name, gap, slip, law, c, parent=None) -> ContactData:
         from ..modeling.contacts import Coulomb
 
-        g = to_se(c.gap)
+        g = to_se(gap)
         Gn = tuple(se.diff(g, qk) for qk in self.q)
         gdot = self.dt(g, with_acceleration=False)
         gamma_n = self.dt(gdot, with_acceleration=False)
-        U = tuple(to_se(u) for u in c.slip)
+        U = tuple(to_se(u) for u in slip)
         W = tuple(tuple(se.diff(u, v) for v in self.qd) for u in U)
         gamma_U = tuple(self.dt(u, with_acceleration=False) for u in U)
-        law = c.friction
         mu = to_se(law.mu)
-        mu_s = to_se(law.mu_static) if isinstance(law, Coulomb) else mu
-        return ContactData(c.name, g, gdot, Gn, gamma_n, U, W, gamma_U, mu, mu_s, law,
-                           c.bilateral, float(c.impact.restitution))
+        mu_s = to_se(law.mu_static if law.mu_static is not None else law.mu) if isinstance(law, Coulomb) else mu
+        return ContactData(name, g, gdot, Gn, gamma_n, U, W, gamma_U, mu, mu_s, law,
+                           c.bilateral, float(c.impact.restitution), parent)
 
     def contact_rows(self, index: int, state: str, sigma: int = 1, direction=None) -> list[ConstraintRow]:
         """Symbolic constraint rows of contact *index* in a contact *state*.
@@ -564,27 +572,6 @@ class Dynamics:
                                                 se.Integer(0)) for j in range(self.n))
         return [ConstraintRow(cd.name, cd.Gn, cd.gamma_n, B, cd.gap, cd.gap_rate, 0,
                               not cd.bilateral, "friction")]
-
-
-@dataclass(frozen=True)
-class ContactData:
-    """Symbolic data of a contact: gap ``g``, ``g'``, ``dg/dq``, ``gamma_n`` (so that
-    ``g'' = dg/dq . q'' + gamma_n``), slip velocities ``U``, their Jacobian ``W`` and
-    ``gamma_U`` (``U' = W q'' + gamma_U``), friction coefficients."""
-
-    name: str
-    gap: object
-    gap_rate: object
-    Gn: tuple
-    gamma_n: object
-    U: tuple
-    W: tuple
-    gamma_U: tuple
-    mu: object
-    mu_s: object
-    law: object
-    bilateral: bool
-    restitution: float
 
 
 def _source(model: Model) -> str | None:

@@ -29,6 +29,8 @@ __all__ = [
     "normalize_friction",
     "Contact",
     "Coulomb",
+    "TORQUES",
+    "torques",
     "IdealRolling",
     "is_infinite",
     "read_infinite",
@@ -205,6 +207,18 @@ class Contact:
     After normalization a contact from geometry carries ``geometry``
     (:class:`~nonideal.modeling.shapes.ContactGeometry`: normal, support point, angular
     velocities) besides the derived ``gap`` and ``slip``.
+    spin : expression, optional
+        The relative spin angular velocity of the bodies about the contact normal (linear in
+        the velocities); needed by ``spin_friction`` (derived for a contact from geometry).
+    rolling : sequence of 1 or 2 expressions, optional
+        The relative rolling angular velocity (its components about axes of the tangent plane,
+        linear in the velocities); needed by ``rolling_friction``.
+    spin_friction, rolling_friction : expression, optional
+        Lengths ``l``: the pivoting torque about the normal (rolling-resistance torque in the
+        tangent plane) is bounded by ``l N`` while the spin (rolling) angular velocity is zero
+        and equals ``-l N w/|w|`` while it is not -- Coulomb's law on the angular velocity,
+        each torque with its own sticking and exact switching, independent of the sliding
+        friction and of each other (:func:`torques`).
 
     Examples
     --------
@@ -222,12 +236,47 @@ class Contact:
     shape: Any = None
     surface: Any = None
     geometry: Any = field(default=None, compare=False, repr=False)
+    spin: Any = None
+    rolling: tuple[Any, ...] | None = None
+    spin_friction: Any = None
+    rolling_friction: Any = None
 
     def __post_init__(self):
         slip = () if self.slip is None else self.slip
         if isinstance(slip, (str, int, float)) or not hasattr(slip, "__iter__"):
             slip = (slip,)
         object.__setattr__(self, "slip", tuple(slip))
+        rolling = self.rolling
+        if rolling is not None and (isinstance(rolling, (str, int, float)) or not hasattr(rolling, "__iter__")):
+            object.__setattr__(self, "rolling", (rolling,))
+        elif rolling is not None:
+            object.__setattr__(self, "rolling", tuple(rolling))
+
+
+TORQUES = (("spin", "spin_friction"), ("rolling", "rolling_friction"))
+"""The friction torques of a contact: (angular velocity key, length key)."""
+
+
+def torques(contact: Contact) -> list[tuple[str, tuple[Any, ...], Any]]:
+    """The friction torques of *contact*: ``(name, angular velocity rows, length)`` for each of
+    ``spin_friction`` (name ``<contact>_spin``) and ``rolling_friction``
+    (``<contact>_rolling``) it gives.
+
+    Examples
+    --------
+    >>> c = Contact("floor", "z", ("x'",), spin="w", spin_friction="l")
+    >>> torques(c)
+    [('floor_spin', ('w',), 'l')]
+    """
+    out = []
+    for rows_key, length_key in TORQUES:
+        length = getattr(contact, length_key)
+        if length is None:
+            continue
+        rows = getattr(contact, rows_key)
+        rows = (rows,) if rows_key == "spin" else rows
+        out.append((f"{contact.name}_{rows_key}", tuple(rows), length))
+    return out
 
 
 def normalize_friction(norm, law: Any, where: str):

@@ -7,7 +7,7 @@ The format (``format = 1``, reference: docs/MODEL_FORMAT.md) is extended -- neve
 * ``[[loads]]`` (``type = "force" | "torque"``) turned into generalized forces;
 * ``restitution`` for unilateral constraints (impact law; 0 = plastic, the default);
 * contacts: ``friction = "coulomb" | "regularized" | "linearized"``, ``eps``,
-  ``restitution``, ``bilateral``; ``mu = "inf"`` (ideal rolling while in contact);
+  ``restitution``, ``bilateral``; ``mu = "inf"`` (ideal rolling); friction torques;
 * ``[forms] independent`` -- independent coordinates for the reduced forms (for
   ``lagrange2`` those of the first chart, see :mod:`nonideal.charts`);
 * ``[parameters]`` values may be tables ``{value, unit, description}``, and expressions in the
@@ -29,6 +29,7 @@ from typing import Any
 
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
+from .contact_normalize import torque_keys
 from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb, is_infinite
 from ..errors import ModelError, did_you_mean, short_repr
 from .limits import check_size, read_text
@@ -58,8 +59,8 @@ SECTION_KEYS = {
 CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral", "restitution",
                    "losses", "root", "cost", "description"}
 CONTROL_KEYS = {"name", "direction", "weight", "description"}
-CONTACT_KEYS = {"name", "gap", "slip", "mu", "mu_static", "friction", "eps", "restitution",
-                "bilateral", "description", "body", "shape", "surface"}
+CONTACT_KEYS = {"name", "gap", "slip", "mu", "mu_static", "friction", "eps", "restitution", "bilateral",
+                "description", "body", "shape", "surface", "spin", "rolling", "spin_friction", "rolling_friction"}
 BODY_KEYS = {
     "particle": {"type", "name", "mass", "position", "point"},
     "planar": {"type", "name", "mass", "inertia", "position", "angle"},
@@ -350,13 +351,13 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
         if not ok:
             continue
         impact = Plastic() if not e else Newton(e)
-        if geometric:
-            contacts.append(Contact(c["name"], friction=friction, impact=impact, bilateral=bilateral,
-                                    body=c["body"], shape=c["shape"], surface=c.get("surface")))
+        torques = torque_keys(c, check, where)   # spin, rolling and their lengths
+        if torques is None:
             continue
-        slip = c["slip"]
-        contacts.append(Contact(c["name"], c["gap"], tuple(slip) if isinstance(slip, list) else (slip,),
-                                friction, impact, bilateral))
+        given = dict(body=c["body"], shape=c["shape"], surface=c.get("surface")) if geometric else \
+            dict(gap=c["gap"], slip=tuple(c["slip"]) if isinstance(c["slip"], list) else (c["slip"],))
+        contacts.append(Contact(c["name"], friction=friction, impact=impact, bilateral=bilateral,
+                                **given, **torques))
 
     bodies = []
     for k, b in enumerate(_array_of_tables(data, "bodies", problems)):

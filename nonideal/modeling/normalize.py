@@ -12,9 +12,8 @@ import numpy as np
 import sympy as sp
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
-from .contacts import Contact, Newton, Plastic, normalize_friction
+from .contact_normalize import normalize_contacts
 from ..errors import ExpressionError, did_you_mean
-from .shapes.reading import shape_contact
 from .symbols import is_identifier
 
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
@@ -436,80 +435,7 @@ class Normalizer:
         self.set("constraints", tuple(out))
 
     def contacts(self) -> None:
-        m = self.m
-        out, names = [], {c.name for c in m.constraints}
-        for ct in m.contacts:
-            where = f"contact '{ct.name}'"
-            if not isinstance(ct.name, str) or not is_identifier(ct.name):
-                self.problems.append(f"{where}: name must be an identifier")
-                continue
-            if ct.name in names:
-                self.problems.append(f"{where}: name already used by a constraint or contact")
-                continue
-            names.add(ct.name)
-            if ct.geometry is None and (ct.shape is not None or ct.body is not None or ct.gap is None):
-                ct = shape_contact(ct, where, m, lambda v, w: self.expr(v, w, 0), self.problems)
-                if ct is None:
-                    continue
-            gap = self.smooth(self.expr(ct.gap, f"{where}: gap", 2), f"{where}: gap")
-            if gap is None:
-                continue
-            if derivative_order(gap, m.coordinates) > 0:
-                self.problems.append(f"{where}: the gap must be a function of the coordinates and "
-                                     "time only (it contains velocities)")
-                continue
-            if identically_zero(gap) or not (gap.free_symbols & set(m.q)):
-                self.problems.append(f"{where}: the gap does not depend on the coordinates, so no normal "
-                                     "force can be identified; write the normal distance, e.g. gap = \"y\"")
-                continue
-            slips = []
-            if not 1 <= len(ct.slip) <= 2:
-                self.problems.append(f"{where}: slip must have 1 or 2 components (got {len(ct.slip)})")
-                continue
-            for i, s in enumerate(ct.slip):
-                e = self.smooth(self.expr(s, f"{where}: slip[{i}]", 2), f"{where}: slip[{i}]")
-                if e is None:
-                    continue
-                if derivative_order(e, m.coordinates) == 2:
-                    self.problems.append(f"{where}: slip[{i}] must not contain accelerations")
-                    continue
-                if any(sp.diff(e, a, b) != 0 for a in m.qd for b in m.qd if a in e.free_symbols):
-                    self.problems.append(
-                        f"{where}: slip[{i}] = {e} is not linear in the velocities; a slip "
-                        "velocity is W(q,t) q' + w0"
-                    )
-                    continue
-                if not (e.free_symbols & set(m.qd)):
-                    self.problems.append(f"{where}: slip[{i}] = {e} contains no velocity; it must be "
-                                         "the tangential velocity of the contact point")
-                    continue
-                slips.append(e)
-            if len(slips) != len(ct.slip):
-                continue
-            friction = self.friction(ct.friction, where)
-            impact = ct.impact
-            if not isinstance(impact, (Plastic, Newton)):
-                self.problems.append(f"{where}: impact must be Plastic() or Newton(e)")
-                continue
-            if not 0.0 <= float(impact.restitution) <= 1.0:
-                self.problems.append(f"{where}: restitution must lie in [0, 1] (got {impact.restitution})")
-                continue
-            if friction is None:
-                continue
-            out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral),
-                               ct.body, ct.shape, ct.surface, ct.geometry))
-        self.set("contacts", tuple(out))
-        # the multipliers are printed as lambda_<constraint>: a parameter or coordinate of that
-        # name would read like a multiplier in every equation
-        for kind, given in (("[parameters]", m.parameters), ("[coordinates] q:", m.coordinates)):
-            for name in given:
-                if isinstance(name, str) and name.startswith("lambda_") and name[7:] in names:
-                    self.problems.append(
-                        f"{kind} '{name}' is the name of the multiplier of constraint or contact "
-                        f"'{name[7:]}' in the equations; rename it")
-
-    def friction(self, law: Any, where: str):
-        return normalize_friction(self, law, where)
+        normalize_contacts(self)
 
     # -- initial state and settings
     def initial_and_settings(self) -> None:

@@ -240,6 +240,17 @@ def _conditions(solver, mode, layout, lam, cout, free):
                 linear += [nv - T[0], nv + T[0]]
             else:
                 cones.append((nv, T))
+    normal = {r.index: j for j, r in enumerate(layout) if r.kind == "normal"}
+    for c in solver.ck.torques:   # a sticking friction torque: |M| <= l N of its contact
+        j = normal.get(solver.ck.parents[c])
+        if mode.contacts[c][1].state != STICK or j is None or not free[[j] + tangents[c]].any():
+            continue
+        nv = unit(j, float(cout["mu_s"][c]))
+        T = np.array([unit(k) for k in tangents[c]])
+        if len(T) == 1:
+            linear += [nv - T[0], nv + T[0]]
+        else:
+            cones.append((nv, T))
     return linear, cones
 
 

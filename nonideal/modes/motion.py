@@ -131,7 +131,7 @@ class Motion:
     def normal(self, c: int, values: np.ndarray | None = None) -> float:
         """Normal force of contact *c* (0 when separated); in *values* (:attr:`reported`)
         rather than :attr:`values` when given."""
-        j = self.system.normal_col.get(c)
+        j = self.system.normal_of.get(c)  # a friction torque: its contact's normal force
         return 0.0 if j is None else float((self.values if values is None else values)[j])
 
     def friction(self, c: int, values: np.ndarray | None = None) -> np.ndarray:

@@ -96,6 +96,12 @@ class ModeSolver:
         self.frictionless = self.ck.frictionless(params) if self.ck else frozenset()
         self.rolling = self.ck.rolling if self.ck else frozenset()
         self.reference: dict[int, np.ndarray] = {}
+        if self.ck and self.ck.torques and not self.route.saddle_point:
+            from ..errors import ModelError
+
+            raise ModelError(f"--form {form}: the friction torques (spin_friction, rolling_friction) are "
+                             "solved with Lagrange's equations of the first kind only; use --form lagrange1",
+                             None if self.model.source == "<api>" else self.model.source)
         #: how statically indeterminate reactions are reported: (rule, weights by name)
         settings = self.model.simulation
         self.split = (settings.split, dict(settings.split_weights))
@@ -218,6 +224,13 @@ class ModeSolver:
                 G[j] = cout["W"][row]
                 gamma[j] = cout["gamma_U"][row]
                 B[:, j] = G[j]
+        normal_of = self.system(mode).normal_of
+        for c in self.ck.torques:  # a sliding friction torque acts through its contact's N
+            cs = mode.contacts[c][1]
+            if cs.state in (SLIDE, SMOOTH):
+                o, d = self.ck.offsets[c], self.ck.dims[c]
+                s = self.friction_shape(c, cs, cout["U"][o:o + d])
+                B[:, normal_of[c]] -= cs.sigma * cout["mu"][c] * (s @ cout["W"][o:o + d])
         return G, gamma, B
 
     # ------------------------------------------------------------------ reduced forms
@@ -478,13 +491,12 @@ class ModeSolver:
         for j, r in enumerate(layout):
             if r.kind == "tangent":
                 P += values[j] * cout["U"][self.ck.offsets[r.index] + r.k]
-            elif r.kind == "normal":
-                c = r.index
-                cs = mode.contacts[c][1]
-                if cs.state in (SLIDE, SMOOTH):
-                    o, d = self.ck.offsets[c], self.ck.dims[c]
-                    U = cout["U"][o:o + d]
-                    P -= cs.sigma * cout["mu"][c] * values[j] * float(self.friction_shape(c, cs, U) @ U)
+        normal_of = self.system(mode).normal_of
+        for c, (_, cs) in enumerate(mode.contacts):   # sliding contacts and friction torques
+            if cs.state in (SLIDE, SMOOTH):
+                o, d = self.ck.offsets[c], self.ck.dims[c]
+                U = cout["U"][o:o + d]
+                P -= cs.sigma * cout["mu"][c] * values[normal_of[c]] * float(self.friction_shape(c, cs, U) @ U)
         return float(P)
 
     def _contact_forces(self, mode, layout, values, cout, qdd):
@@ -492,7 +504,7 @@ class ModeSolver:
         contacts = {}
         if not self.ck:
             return contacts, friction
-        normal = {r.index: values[j] for j, r in enumerate(layout) if r.kind == "normal"}
+        normal = {c: values[j] for c, j in self.system(mode).normal_of.items()}
         tang = {(r.index, r.k): values[j] for j, r in enumerate(layout) if r.kind == "tangent"}
         for c, (name, cs) in enumerate(mode.contacts):
             o, d = self.ck.offsets[c], self.ck.dims[c]

@@ -81,6 +81,12 @@ def contact_options(solver: ModeSolver, kin: np.ndarray, scales, tol_pos=1e-9, t
     return options
 
 
+def _linked(parents, combo) -> bool:
+    """Whether every friction torque of *combo* touches exactly when its contact does."""
+    return all(p is None or (cs.state == SEPARATED) == (combo[p].state == SEPARATED)
+               for p, cs in zip(parents, combo))
+
+
 def _onset_directions(solver: ModeSolver, t, q, qd, mode: Mode, c: int):
     """Directions s (unit, 2 components) at which sliding can start at contact c:
     the slip acceleration is ``kappa s`` with ``kappa >= 0``."""
@@ -256,8 +262,10 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
     if total > MAX_COMBINATIONS:
         raise MechanicsError(f"too many simultaneous contact states to enumerate ({total})", t)
     consistent = []
+    parents = solver.ck.parents if solver.ck else []
     candidates = [(held, combo) for held in held_sets
-                  for combo in (itertools.product(*copts) if copts else [()])]
+                  for combo in (itertools.product(*copts) if copts else [()])
+                  if _linked(parents, combo)]
     # static friction is preferred: try the combinations that stick the most first and stop
     # after the first level of stickiness with a consistent choice (sliding onsets, which need a
     # direction search, are then never explored)
@@ -440,7 +448,10 @@ def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting=
             closed.append(i)
     closed_c = []
     if ck:
-        closed_c = [c for c in range(len(ck.data)) if abs(cout["gap"][c]) <= 1e-8 * sq or ck.names[c] in contacts_hit]
+        # (the friction torques give no impulse: their bound l N is finite while N is; an
+        # impulsive normal force would allow an impulsive torque, not modelled)
+        closed_c = [c for c in range(len(ck.data)) if c not in ck.torques
+                    and (abs(cout["gap"][c]) <= 1e-8 * sq or ck.names[c] in contacts_hit)]
     eq_rows = [i for i in solver.bilateral if kernel.rows[i].velocity is not None]
     options_c = []
     for c in closed_c:

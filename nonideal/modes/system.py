@@ -76,10 +76,12 @@ class ModeSystem:
         ck = contact_kernel_of(kernel.model)
         rows = [i for i, r in enumerate(kernel.rows) if not r.unilateral or r.name in mode.held]
         layout = [RowSpec("constraint", i, 0, kernel.rows[i].name) for i in rows]
+        parents = ck.parents
         for c, (name, cs) in enumerate(mode.contacts):
             if cs.state == SEPARATED:
                 continue
-            layout.append(RowSpec("normal", c, 0, name))
+            if parents[c] is None:  # a friction torque has its contact's normal row
+                layout.append(RowSpec("normal", c, 0, name))
             if cs.state == STICK:
                 d = ck.dims[c]
                 for k in range(d):
@@ -90,13 +92,19 @@ class ModeSystem:
         self.s = s = n + m
         self.row_col = {r.index: j for j, r in enumerate(layout) if r.kind == "constraint"}
         self.normal_col = {r.index: j for j, r in enumerate(layout) if r.kind == "normal"}
+        #: the layout row of the normal force of every touching contact and friction torque
+        self.normal_of = {c: self.normal_col[c if p is None else p] for c, p in enumerate(parents)
+                          if (c if p is None else p) in self.normal_col and mode.contacts[c][1].state != SEPARATED}
         self.tangent_cols: dict[int, list[int]] = {}
         for j, r in enumerate(layout):
             if r.kind == "tangent":
                 self.tangent_cols.setdefault(r.index, []).append(j)
         self.tangent = [j for cols in self.tangent_cols.values() for j in cols]
         # rows whose reaction column is their gradient: dropping a dependent one keeps the motion
-        self._ideal = [r.kind == "tangent" or (r.kind == "normal" and mode.contacts[r.index][1].state == STICK)
+        # (not a normal row that carries a sliding friction torque)
+        torque_sliding = {parents[c] for c in ck.torques if mode.contacts[c][1].state in (SLIDE, SMOOTH)}
+        self._ideal = [r.kind == "tangent" or (r.kind == "normal" and mode.contacts[r.index][1].state == STICK
+                                               and r.index not in torque_sliding)
                        or (r.kind == "constraint" and kernel.rows[r.index].reaction_kind == "ideal")
                        for r in layout]
         self._dependent = None if m else False
@@ -146,6 +154,13 @@ class ModeSystem:
                 rsrc.append(cat["gamma_U"] + row)
             src += g_row + b_col
             dst += [col + k * s for k in range(n)] + [k + col * s for k in range(n)]
+        for c in sorted(ck.torques):   # a sliding friction torque: in its contact's normal column
+            if mode.contacts[c][1].state in (SLIDE, SMOOTH):
+                j = self.normal_of[c]
+                o, d = ck.offsets[c], ck.dims[c]
+                self.sliding.append((j, c, slice(cat["U"] + o, cat["U"] + o + d),
+                                     slice(cat["W"] + o * n, cat["W"] + (o + d) * n), (d, n), cat["mu"] + c,
+                                     slice((n + j) * s, (n + j) * s + n)))
         self.src = np.concatenate((src_M, np.array(src, dtype=np.intp)))
         self.dst = np.concatenate((dst_M, np.array(dst, dtype=np.intp)))
         self.rsrc = np.array(rsrc, dtype=np.intp)
@@ -275,7 +290,8 @@ class ModeSystem:
         """The :class:`ModeFunction` of this structure once it has been evaluated
         :data:`SPECIALIZE_CALLS` times by :meth:`solve_with_powers` (compiled then, once), or
         None (before that, without contact rows, or for a law it does not compile)."""
-        if self.function is None and self.calls >= SPECIALIZE_CALLS and self.contact_rows and not self._dependent:
+        if self.function is None and self.calls >= SPECIALIZE_CALLS and self.contact_rows and not self._dependent \
+                and not contact_kernel_of(kernel.model).torques:   # friction torques: the index path
             self.function = ModeFunction.of(kernel, self, mode)
         return self.function or None
 

@@ -7,7 +7,9 @@ first of contact ``c``) ``U[r]``, ``W[r]`` (``dU/dq'``), ``gamma_U[r]`` (``U' = 
 ``at[name]`` is where each output starts in the flat output array (``W`` row-major, shape
 ``(components, n_q)``), for the index-based fast path of :mod:`nonideal.modes.system`.
 A contact that rolls ideally (``mu = inf``, :class:`~nonideal.modeling.contacts.IdealRolling`)
-has ``mu = mu_s = inf``; :attr:`ContactKernel.rolling` lists them.
+has ``mu = mu_s = inf``; :attr:`ContactKernel.rolling` lists them.  The friction torques follow
+the contacts (:attr:`ContactKernel.torques`, each with its contact in :attr:`ContactKernel.parents`):
+their ``U`` is the angular velocity, ``mu = mu_s`` the length.
 """
 
 from __future__ import annotations
@@ -35,6 +37,10 @@ class ContactKernel:
         self.params = dyn.params
         #: the contacts that roll ideally while closed (``mu = inf``): no slide state, no slip event
         self.rolling = frozenset(c for c, d in enumerate(self.data) if isinstance(d.law, IdealRolling))
+        #: the contact each friction torque acts at (None for a contact): a torque has its
+        #: contact's gap and normal force, no normal row of its own
+        self.parents = [d.parent for d in self.data]
+        self.torques = frozenset(c for c, p in enumerate(self.parents) if p is not None)
         symbols = [dyn.t] + dyn.q + dyn.qd + dyn.params
         if not self.data:
             self.fn = None

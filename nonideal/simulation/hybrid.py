@@ -134,10 +134,11 @@ class Simulation:
                 out.append(Touch("contact", name, i))
         for c, (name, cs) in enumerate(mode.contacts):
             bilateral = self.solver.ck.data[c].bilateral
+            torque = c in self.solver.ck.torques  # touches and lifts with its contact: stick, slip only
             if cs.state == SEPARATED:
-                out.append(ContactTouch("touch", name, c))
+                out += [] if torque else [ContactTouch("touch", name, c)]
                 continue
-            if not bilateral:
+            if not bilateral and not torque:
                 out.append(Lift("lift-off", name, c))
             elif cs.state in (SLIDE, SMOOTH):
                 out.append(Lift("normal-sign", name, c, sigma=cs.sigma))
@@ -147,7 +148,7 @@ class Simulation:
                 d = self.solver.ck.dims[c]
                 direction = cs.direction[0] if d == 1 else 1.0
                 out.append(SlipStop("slip-stop", name, c, direction=direction))
-                if self.detect_jam and not bilateral:
+                if self.detect_jam and not bilateral and not torque:
                     out.append(Jam("jam", name, c))
         return out
 
@@ -267,7 +268,7 @@ class Simulation:
             qd = qd + np.linalg.lstsq(np.array(Gv), -np.array(rv), rcond=None)[0]
         return q, qd
 
-    def _work_tolerances(self):
+    def work_tolerances(self):
         """Absolute tolerances of the state ``[q, q', W]``: *atol* for the motion and
         :data:`WORK_ATOL` times it for the work integrals (a user's array is kept)."""
         size = 2 * self.n + N_WORK + len(self.control_rows)   # the controls' works last
@@ -361,7 +362,7 @@ class Simulation:
         mode = select_mode(self.solver, t0, q0, qd0)
         q0, qd0 = self._project(mode, t0, q0, qd0)
         y = np.concatenate((q0, qd0, np.zeros(N_WORK + len(self.control_rows) if self.track else 0)))
-        atol = self._work_tolerances() if self.track else self.atol
+        atol = self.work_tolerances() if self.track else self.atol
         samples = SampleBuffer(self.max_samples)  # bounded: thinned past max_samples steps
         budget = StepBudget(t0, t_end, None if model.source == "<api>" else model.source, method=self.method)
         events_log: list[dict] = []

@@ -91,3 +91,30 @@ def test_vary_gives_the_root_locus_and_the_plot(tmp_path, cli):
     assert png.stat().st_size > 0
     r = cli("stability", "watt-governor", "--vary", "J=1:2")
     assert r.returncode == 2 and "NAME=START:STOP:N" in r.stderr
+
+
+def test_model_with_contacts_is_linearized_in_its_contact_mode(cli):
+    from tests.helpers import DATA_DIR
+
+    path = DATA_DIR / "contacts" / "rolling_disk_contact.toml"
+    r = cli("stability", path, "--about", "steady", "--at", "phi'=5", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert d["contacts"]["floor"]["mode"] == "stick"
+    assert "nonholonomic" in d["contacts"]["floor"]["linearized_as"]
+    eig = sorted(complex(re, im).imag for re, im in d["eigenvalues"])
+    assert eig[0] == pytest.approx(-np.sqrt(4 / 2.5 * (1.5 * 25 - 9.81)), rel=1e-9)
+    text = cli("stability", path, "--about", "steady", "--at", "phi'=5")
+    assert text.returncode == 0 and "contact 'floor': stick -- slip = 0 nonholonomic, gap = 0 holonomic" in text.stdout
+
+
+def test_model_with_an_epsilon_linear_contact_is_refused(cli, tmp_path):
+    from tests.helpers import DATA_DIR
+
+    text = (DATA_DIR / "contacts" / "block_on_belt_springs.toml").read_text()
+    bad = tmp_path / "belt_linearized.toml"
+    bad.write_text(text.replace('mu = "mu"', 'mu = "mu"\nfriction = "linearized"\neps = 0.01'))
+    out = tmp_path / "out.json"
+    r = cli("stability", bad, "--about", "equilibrium", "--json", out)
+    assert r.returncode == 2 and "contact 'belt' uses the epsilon-linear law" in r.stderr
+    assert not out.exists()

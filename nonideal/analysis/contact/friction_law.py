@@ -27,7 +27,7 @@ Cost: this uses the symbolic inverse of ``M`` -- meant for textbook-sized system
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import sympy as sp
 
@@ -250,7 +250,8 @@ def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = 
     from ...numeric.kernel import kernel_of, parameter_vector
     from ...modes.switching import select_mode
 
-    names = [c.name for c in model.contacts]
+    dyn = dynamics_of(model)
+    names = [c.name for c in dyn.contacts]   # the contacts, then their friction torques
     states = _checked_states(states, names)
     kernel = kernel_of(model)
     params = parameter_vector(model)
@@ -261,12 +262,14 @@ def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = 
         held = set(mode.held)
         for name, cs in mode.contacts:
             states.setdefault(name, cs.label().replace("(N<0)", ""))
-    dyn = dynamics_of(model)
     rows = [r for r in dyn.rows() if not r.unilateral or r.name in held]
     notes = []
     for c, name in enumerate(names):
         st = states[name]
         d = len(dyn.contacts[c].U)
+        if dyn.contacts[c].parent is not None:
+            rows = _torque_rows(dyn, c, st, states, rows, notes)
+            continue
         if st == "separated":
             notes.append(f"contact '{name}': separated (no force)")
             continue
@@ -298,9 +301,40 @@ def derive_in_mode(model: Model, form: str = "lagrange1", states: dict | None = 
                      "-mu N s" + ("" if d == 1 else " with s = U/|U| (symbols s[...])"))
     branch = initial_branch(model) if form == "lagrange2" else None   # as nonideal.derive does
     eom = derive_symbolic(model, form, rows=rows, independent=independent, branch=branch)
-    from dataclasses import replace as _replace
+    return replace(eom, notes=tuple(notes) + tuple(eom.notes))
 
-    return _replace(eom, notes=tuple(notes) + tuple(eom.notes))
+
+def _torque_rows(dyn, c: int, st: str, states: dict, rows: list, notes: list) -> list:
+    """The rows of friction torque *c* in state *st*: sticking, its angular-velocity rows
+    (multipliers: the torque); sliding, ``-sigma l N s W`` added to its contact's gap row."""
+    import symengine as se
+
+    cd = dyn.contacts[c]
+    parent = dyn.contacts[cd.parent].name
+    d = len(cd.U)
+    if states[parent] == "separated" or st == "separated":
+        if (states[parent] == "separated") != (st == "separated"):
+            raise FormNotApplicable(f"--contact {cd.name}: a friction torque touches exactly when its contact "
+                                    f"'{parent}' does (it is '{states[parent]}', the torque '{st}')")
+        return rows
+    if st == "stick":
+        notes.append(f"friction torque '{cd.name}': sticking (the multipliers of its rows are the torque, "
+                     f"bounded by {cd.mu} N)")
+        return rows + dyn.contact_rows(c, "stick")[1:]
+    if st in ("slide+", "slide-") and d != 1 or st == "slide" and d != 2 or st == "smooth":
+        raise FormNotApplicable(f"--contact {cd.name}: '{st}' does not fit {d} angular-velocity component(s); "
+                                "use stick, slide+/slide- for one, slide for two")
+    s = [se.Integer(1 if st == "slide+" else -1)] if d == 1 else \
+        [se.Symbol(f"s[{cd.name},{k + 1}]") for k in range(d)]
+    torque = [cd.mu * sum((cd.W[k][j] * s[k] for k in range(d)), se.Integer(0)) for j in range(dyn.n)]
+    notes.append(f"friction torque '{cd.name}': {st}; the normal force N of '{parent}' carries the torque "
+                 f"-{cd.mu} N s" + ("" if d == 1 else " with s = w/|w| (symbols s[...])"))
+    out = []
+    for r in rows:
+        if r.name == parent and r.order == 0:
+            r = replace(r, B=tuple(b - t for b, t in zip(r.B, torque)), reaction_kind="friction")
+        out.append(r)
+    return out
 
 
 def contact_gap_constraints(model: Model, contacts=None) -> tuple[Model, list[str]]:

@@ -130,8 +130,11 @@ class RealizabilityReport:
                 lines.append(f"  along the rolling motion: rolling stops being realizable at t = "
                              f"{a['lost_at']:.12g} ({a['reason']} at contact '{a['contact']}')")
             else:
+                how = ("located between the samples" if a.get("min_margin_located")
+                       else "the smallest sampled")
                 lines.append(f"  along the rolling motion: realizable up to t = {a['t_end']:g} "
-                             f"(minimum margin {a['min_margin']:.6g} at t = {a['min_margin_t']:.6g})")
+                             f"(minimum margin {a['min_margin']:.10g} at t = {a['min_margin_t']:.10g}, "
+                             f"{how})")
         return "\n".join(lines)
 
 
@@ -250,7 +253,10 @@ def realizability_along(model: Model, t_end: float | None = None, samples: int =
     slip or lift-off event, whose time is located exactly (root of the margin
     ``mu_s N - |F*|``, or of ``N``).  Until then the motion is the nonholonomic one.  The margin
     of an ideally rolling contact (``mu = inf``) is its normal force ``N``: only lift-off
-    ends rolling there.
+    ends rolling there.  The smallest margin is located between the samples (Brent's method
+    on the dense output of the phase around the sampled minimum, the exact margin evaluated
+    at each candidate state): ``along["min_margin"]``, ``along["min_margin_t"]``; the sampled
+    one stays in ``min_margin_sampled`` / ``min_margin_sampled_t``.
     """
     from ...simulation.hybrid import Simulation
 
@@ -273,18 +279,80 @@ def realizability_along(model: Model, t_end: float | None = None, samples: int =
     first = next((e for e in traj.events if e["type"] in ("slip", "lift-off")), None)
     allm = np.min(np.vstack(list(margins.values())), axis=0) if margins else np.zeros(len(traj.t))
     k = int(np.argmin(allm)) if allm.size else 0
+    located = _locate_minimum(sim, traj, allm, k, list(margins)) if margins else None
+    t_min, m_min = located if located is not None else \
+        ((float(traj.t[k]), float(allm[k])) if allm.size else (None, None))
     report.along = {
         "t_end": float(traj.t[-1]),
         "lost_at": float(first["t"]) if first else None,
         "reason": {"slip": "needed friction reached mu_s N", "lift-off": "normal force reached zero"}
         .get(first["type"]) if first else None,
         "contact": first.get("contact") if first else None,
-        "min_margin": float(allm[k]) if allm.size else None,
-        "min_margin_t": float(traj.t[k]) if allm.size else None,
+        "min_margin": m_min,
+        "min_margin_t": t_min,
+        "min_margin_located": located is not None,
+        "min_margin_sampled": float(allm[k]) if allm.size else None,
+        "min_margin_sampled_t": float(traj.t[k]) if allm.size else None,
         "t": [float(v) for v in traj.t],
         "margin": {k_: [float(v) for v in m] for k_, m in margins.items()},
     }
     return report
+
+
+def _locate_minimum(sim, traj, allm: np.ndarray, k: int, names: list[str]):
+    """The smallest margin between the samples around the sampled minimum *k*.
+
+    The phase is integrated again from the sample before *k* to the sample after it (same
+    mode, the simulation's method and tolerances, with its dense output), and the exact margin
+    -- the mode solved again at each candidate state -- is minimized over that bracket by
+    Brent's bounded method.  Returns ``(t, margin)``, or ``None`` when the bracket holds an
+    event or a change of mode (the sampled minimum is then reported as it is) or when the
+    sampled minimum is at an end of the motion (an event there is located exactly already).
+    """
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import minimize_scalar
+
+    from ...modes.switching import select_mode
+    from ...simulation.hybrid import N_WORK
+
+    t = traj.t
+    if len(t) < 3 or not 0 < k < len(t) - 1:
+        return None
+    lo, hi = k - 1, k + 1
+    if len({traj.modes[i] for i in (lo, k, hi)}) != 1 or \
+            any(t[lo] < e["t"] <= t[hi] for e in traj.events):
+        return None
+    solver, n = sim.solver, sim.n
+    y0 = np.concatenate((traj.q[lo], traj.qd[lo]))
+    mode = select_mode(solver, float(t[lo]), traj.q[lo], traj.qd[lo])
+    if mode.label() != traj.modes[lo]:
+        return None
+    fun = sim.rhs(mode)
+    y0 = np.concatenate((y0, np.zeros(N_WORK + len(sim.control_rows) if sim.track else 0)))  # works from 0
+    atol = sim.work_tolerances() if sim.track else sim.atol
+    ode = solve_ivp(fun, (float(t[lo]), float(t[hi])), y0, method=sim.method, rtol=sim.rtol,
+                    atol=atol, dense_output=True)
+    if not ode.success:
+        return None
+    index = {name: c for c, name in enumerate(solver.ck.names)}
+
+    def margin(s: float) -> float:
+        y = ode.sol(s)
+        motion = solver.motion(s, y, mode)
+        values = []
+        for name in names:
+            c = index[name]
+            _, N, F, _, _, mu_s = motion.contact_record(c)
+            values.append(N if c in solver.rolling else mu_s * abs(N) - float(np.linalg.norm(F)))
+        return float(min(values))
+
+    span = float(t[hi] - t[lo])
+    best = minimize_scalar(margin, bounds=(float(t[lo]), float(t[hi])), method="bounded",
+                           options={"xatol": 1e-12 * max(span, 1e-300) + 1e-15 * abs(float(t[k]))})
+    candidates = [(float(t[k]), margin(float(t[k])))]
+    if best.success:
+        candidates.append((float(best.x), float(best.fun)))
+    return min(candidates, key=lambda c: c[1])
 
 
 def regularized(model: Model, eps: float, law: str = "linearized") -> Model:

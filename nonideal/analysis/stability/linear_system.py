@@ -47,7 +47,7 @@ class LinearKernel:
         if model.contacts:
             raise ModelError(
                 f"stability: the model has contacts ({', '.join(c.name for c in model.contacts)}); "
-                "linearize it in one contact state: write the touching contact as a constraint "
+                "a programmed motion is linearized with constraints only: write the touching contact as a constraint "
                 "(sticking: gap and slip as [[constraints]]) or drop it",
                 _src(model))
         dyn = dynamics_of(model)

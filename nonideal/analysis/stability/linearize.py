@@ -46,6 +46,7 @@ Example
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
@@ -57,6 +58,7 @@ from ...modeling.model import Model
 from ...numeric.display import number
 from .linear_system import (NEWTON_STEPS, Partition, Point, check_parameters, clean, ignorable_set,
                             kernel_of, natural_frequencies, parse_state, partition, state_matrices)
+from .contacts import as_constraints, contact_modes, described, guess_state
 from .routh import analyse, controllability
 from .symbolic import symbolic_matrices
 
@@ -133,6 +135,7 @@ class Linearization:
     residual: float = 0.0
     frequencies: tuple = ()
     conditions_meaning: str = ""
+    contacts: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """The JSON of ``nonideal stability`` (keys of the command's contract)."""
@@ -161,6 +164,9 @@ class Linearization:
             out["B"] = _listed(self.B_symbolic if self.B_symbolic is not None else self.B)
         if self.frequencies:
             out["frequencies"] = list(self.frequencies)
+        if self.contacts:
+            out["contacts"] = {name: {"mode": label, "linearized_as": how}
+                               for name, (label, how) in self.contacts.items()}
         return out
 
 
@@ -174,6 +180,8 @@ class Linearization:
         lines.append(f"  state: {state}" + (f", {moving}" if moving else ""))
         if self.residual:
             lines.append(f"  (found by Newton from the guess; residual rate at the guess {self.residual:.3g})")
+        for name, (label, how) in self.contacts.items():
+            lines.append(f"  contact '{name}': {label} -- {how}")
         lines.append(f"  variables: {', '.join(self.variables)}")
         if self.dependent:
             lines.append(f"  eliminated by the constraints: {', '.join(self.dependent)}")
@@ -298,11 +306,14 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
     if bad:
         raise ModelError([f"--keep: '{k}' is not a coordinate{did_you_mean(k, model.coordinates)}" for k in bad],
                          _src(model))
+    t0 = float(model.t0 if t is None else t)
+    if model.contacts:   # each touching contact as the constraint it is in its mode at the state
+        return _with_contacts(model, about, at, dict(symbolic=symbolic, controls=controls, keep=keep,
+                                                     independent=independent, exact=exact, t=t0))
     values = model.parameter_values
     params = np.array([float(values[n]) for n in model.parameters])
     k = kernel_of(model, controls)
     n = k.n
-    t0 = float(model.t0 if t is None else t)
     given = parse_state(model, at, symbolic)
     subs = {sp.Symbol(name): val for name, val in values.items()}
     num_given = {key: float(expr.xreplace(subs)) for key, expr in given.items()}
@@ -391,6 +402,32 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
         verdict=info["verdict"], reason=info["reason"], conditions=tuple(info["conditions"]),
         controllability=ctrl, residual=res_guess, frequencies=tuple(freqs),
         conditions_meaning=info["conditions_meaning"])
+
+
+def _with_contacts(model: Model, about, at, options) -> Linearization:
+    """Linearize a model with contacts: each touching contact written as the constraint it is
+    in the mode the contacts have at the state (:mod:`nonideal.analysis.stability.contacts`).
+
+    The mode is chosen at the guess (completed from the initial values; at rest for an
+    equilibrium) and checked at the state Newton finds: when it differs there, the
+    linearization is done again in the mode of that state; a mode that still changes is an
+    error (the motion is not a steady motion of one mode)."""
+    init = guess_state(model, about, at, options["symbolic"])
+    t0 = options["t"]
+    guess = at
+    for _ in range(2):
+        reduced, labels = as_constraints(model, contact_modes(model, init, t0))
+        lin = linearize(reduced, about, guess, **options)
+        init = dict(lin.q)
+        init.update({c + "'": v for c, v in lin.qdot.items()})
+        found = {name: cs.label() for name, cs in contact_modes(model, init, t0).contacts}
+        if found == labels:
+            return dataclasses.replace(lin, contacts=described(model, labels))
+        guess = {key: v for key, v in init.items() if about == "steady" or not key.endswith("'")}
+    raise LinearizationUndefined(
+        "the contacts change mode between the guess and the state found ("
+        + ", ".join(f"{name}: {labels[name]} -> {found[name]}" for name in labels if labels[name] != found[name])
+        + "); the state is not a steady motion in one contact mode", state=init)
 
 
 def _scale(pt: Point, q, v, part) -> float:
