@@ -161,13 +161,20 @@ class StepScan:
             if above:
                 start = above[0]
             else:
-                # a peak inside the first interval (a bounce shorter than a fifth of the step)
-                peak = self._maximum(k, s[0], s[2]) if g[1] > g[0] else None
+                # a peak inside the first interval (a bounce shorter than a fifth of the step),
+                # or before the first sample when the function rises from the start
+                peak = self._maximum(k, s[0], s[2]) if g[1] > g[0] else \
+                    self._maximum(k, s[0], s[1]) if self._rises(k) else None
                 if peak is None or peak[1] <= tol:
                     return None, False
                 return self._after(k, peak[0], peak[1]), True
         te = self._scan(k, s[start:], g[start:])
         return te, True
+
+    def _rises(self, k: int) -> bool:
+        """Whether function *k* rises at the start of the step (its slope there, when known)."""
+        slopes = self.slopes(k) if self.slopes is not None else None
+        return slopes is not None and slopes[0] > 0
 
     def _worth_probing(self, k: int, ga: float, gb: float) -> bool:
         """Whether the step could bring function *k* to zero inside: when it comes within

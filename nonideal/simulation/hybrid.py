@@ -475,12 +475,14 @@ class Simulation:
                         break
                     y, new_mode, record = switched
                     events_log.append(record)
-                    limit = series.add(events[k].name, new_mode.label(), te, ye[:n], ye[n:2 * n]) \
+                    limit = series.add(events[k].name, new_mode.contact(events[k].name).label()
+                                       if isinstance(events[k], ContactTouch) else str(events[k].name in new_mode.held),
+                                       te, ye[:n], ye[n:2 * n], record["normal_velocity"], tols[k]) \
                         if isinstance(events[k], (Touch, ContactTouch)) else None
                     if limit is not None and limit.t < t_end:
                         y, new_mode, record = self._accumulate(limit, y, mode, events[k])
                         events_log.append(record)
-                        series.reset()
+                        series.reset(events[k].name)
                         te = limit.t
                         while times is not None and next_time < times.size and times[next_time] < te:
                             emit(times[next_time], y, new_mode)  # within the rest of the series
