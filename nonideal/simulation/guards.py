@@ -151,7 +151,7 @@ class StepScan:
         is armed where its function first exceeds *tol*.
         """
         ga, gb = self.ends[k]
-        if armed and not self._worth_probing(k, ga, gb):
+        if armed and not self.worth_probing(k, ga, gb):
             return (self._root(k, self.a, self.b) if ga > 0 >= gb else None), True
         s = self.s
         g = self._samples(k)
@@ -176,7 +176,7 @@ class StepScan:
         slopes = self.slopes(k) if self.slopes is not None else None
         return slopes is not None and slopes[0] > 0
 
-    def _worth_probing(self, k: int, ga: float, gb: float) -> bool:
+    def worth_probing(self, k: int, ga: float, gb: float) -> bool:
         """Whether the step could bring function *k* to zero inside: when it comes within
         :data:`PROBE_NEAR` times its change across the step of zero, or crosses.  The change is
         ``|g(b) - g(a)|`` and, for the cheap (kinematic: gaps, slips) functions whose slopes at

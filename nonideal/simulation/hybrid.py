@@ -37,7 +37,7 @@ from ..modes.switching import impact, select_mode
 from ..modes.validation import validate_state
 from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
 from .guards import GuardRates, Step, event_hits
-from .singular import BRANCHES, JUMP_FROM, SINGULAR, Regularity, explain_stall
+from .singular import BRANCHES, JUMP_FROM, Regularity, explain_stall, singular_level
 from .extended import reduce
 from ..equations.high_order import extension_of
 from .rhs import phase_rhs
@@ -401,7 +401,7 @@ class Simulation:
             ode = Solver(fun, t, y, t_end, **dict(kwargs, max_step=min(self.max_step, guard_rates.limit(rates, motion))))
             g_prev = [ev.value(motion) for ev in events]
             watched = regularity.rows(solver.rows(mode))
-            level = SINGULAR if self.singular == "stop" else JUMP_FROM
+            level = singular_level(self.rtol) if self.singular == "stop" else JUMP_FROM
             regularity.start(motion, watched)
             tols = [self._tolerance(ev, motion) for ev in events]
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
@@ -436,7 +436,7 @@ class Simulation:
                         regularity.stop(self.model, step.motion(singular), watched)
                     passed = regularity.pass_through(self, mode, fun, step, singular, watched, Solver, atol)
                     if passed is None:  # a near miss, or no smooth branch: guard as "stop" does
-                        level = SINGULAR
+                        level = singular_level(self.rtol)
                         singular = regularity.crossing(step, watched, level, force=True)
                         if singular is not None and (not hits or singular <= min(hits)[0]):
                             regularity.stop(self.model, step.motion(singular), watched)

@@ -60,13 +60,16 @@ from ..modes.switching import effective_compliance
 from ..modes.types import SLIDE
 from .guards import StepScan
 
-__all__ = ["SINGULAR", "JUMP_FROM", "BRANCHES", "LOST", "Regularity", "servo_stall", "mass_stall", "explain_stall"]
+__all__ = ["SINGULAR", "AMPLIFY", "singular_level", "JUMP_FROM", "BRANCHES", "LOST", "Regularity", "servo_stall", "mass_stall", "explain_stall"]
 
 BRANCHES = ("smooth", "stop")
 """Values of ``[simulation] singular``: go on on the smooth branch, or stop (exit code 3)."""
 
 SINGULAR = 1e-6
 """Regularity below which the constraint rows are treated as singular."""
+AMPLIFY = 1e3
+"""The rows count as singular where their regularity is below this many times the relative
+tolerance (:func:`singular_level`)."""
 SUSPECT = 1e-3
 """Regularity (or determinant of the rows at the two ends of a step) below which a step is
 scanned inside for a singular point."""
@@ -83,6 +86,23 @@ BASE = 4
 BRANCH_TOL = 1e-4
 """Largest change of the velocities (relative) that the projection onto the constraints may make
 to the extrapolated state for it to count as the smooth branch."""
+
+
+def singular_level(rtol: float) -> float:
+    """The regularity below which the rows are singular for a run at relative tolerance
+    *rtol*: :data:`SINGULAR`, or :data:`AMPLIFY` ``rtol`` when larger (at most
+    :data:`SUSPECT`).  The rows fix the motion
+    along their weakest combination only to their error divided by the regularity: at a looser
+    tolerance the integrated motion misses the singular configuration by more (``x^2 + y^2 = 1``
+    with ``y = -cos t``, RK45 at rtol 1e-8: the regularity bottoms out at 3e-6 and the motion
+    turns back on the branch ``x = |sin t|``), and the miss must still be caught.
+
+    Examples
+    --------
+    >>> singular_level(1e-10), singular_level(1e-6)
+    (1e-06, 0.001)
+    """
+    return min(max(SINGULAR, AMPLIFY * float(rtol)), SUSPECT)
 
 
 class Regularity:
@@ -138,11 +158,19 @@ class Regularity:
         """The first time in *step* (:class:`~nonideal.simulation.guards.Step`) where the
         regularity falls to *level* (:data:`SINGULAR`; :data:`JUMP_FROM` when the run goes on
         through), or None; the step is scanned only when :meth:`suspect` says so (or *force*)."""
-        if not self.suspect(step.motion(step.b), rows, level) and not force:
-            return None
-
         def rho(_, s):
             return self.value(step.motion(s), rows) - level
+        if not self.suspect(step.motion(step.b), rows, level) and not force:
+            # no sign of a crossing at the ends; a dip of the regularity that returns within
+            # the step (the rows becoming dependent and the motion turning back on the
+            # non-smooth branch, x = |sin t|) shows in its slopes at the ends
+            tangents = step.tangents()
+            ends = (rho(0, step.a), rho(0, step.b))
+            slopes = None if tangents is None else (
+                (self.value(tangents[1], rows) - level - ends[0]) / tangents[0],
+                (ends[1] - self.value(tangents[2], rows) + level) / tangents[0])
+            scan = StepScan(rho, step.a, step.b, [ends], [True], lambda _: slopes)
+            return scan.first_root(0, ends[0] > 0, 0.0)[0] if scan.worth_probing(0, *ends) else None
         ends = (rho(0, step.a), rho(0, step.b))
         return StepScan(rho, step.a, step.b, [ends]).first_root(0, ends[0] > 0, 0.0)[0]
 
