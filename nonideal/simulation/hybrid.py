@@ -37,7 +37,7 @@ from ..modes.switching import impact, select_mode
 from ..modes.validation import validate_state
 from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
 from .guards import GuardRates, Step, event_hits
-from .singular import BRANCHES, JUMP_FROM, Regularity, explain_stall, singular_level
+from .singular import BRANCHES, JUMP_FROM, MassGuard, Regularity, explain_stall, singular_level
 from .extended import reduce
 from ..equations.high_order import extension_of
 from .rhs import phase_rhs
@@ -268,11 +268,8 @@ class Simulation:
     def _work_tolerances(self):
         """Absolute tolerances of the state ``[q, q', W]``: *atol* for the motion and
         :data:`WORK_ATOL` times it for the work integrals (a user's array is kept)."""
-        if np.ndim(self.atol):
-            return self.atol
-        atol = np.full(2 * self.n + N_WORK, float(self.atol))
-        atol[2 * self.n:] *= WORK_ATOL
-        return atol
+        return self.atol if np.ndim(self.atol) else np.concatenate(
+            (np.full(2 * self.n, float(self.atol)), np.full(N_WORK, WORK_ATOL * float(self.atol))))
 
     def _energy(self, t, q, qd) -> float:
         """Jacobi's energy ``T2 - T0 + V`` at a state."""
@@ -382,7 +379,7 @@ class Simulation:
         Solver = SOLVERS[self.method]
         solver = self.solver
         series = ImpactSeries()
-        regularity = Regularity(self.kernel)
+        regularity, inertia = Regularity(self.kernel), MassGuard(self, t0, y)
         changes = solver.charts.changes if solver.charts is not None else 0
         while t < t_end:
             fun = self.rhs(mode)
@@ -427,6 +424,7 @@ class Simulation:
                 motion = Motion(solver, mode, t_new, ode.y)
                 g_new = [ev.value(motion) for ev in events]
                 step = Step(solver, mode, ode, motion)
+                inertia.check(step)
                 rates_new = guard_rates.at(motion, h)
                 hits = event_hits(step, events, armed, tols, g_prev, g_new, (rates, rates_new))
                 singular = regularity.crossing(step, watched, level) if watched else None

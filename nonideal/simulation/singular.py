@@ -60,7 +60,7 @@ from ..modes.switching import effective_compliance
 from ..modes.types import SLIDE
 from .guards import StepScan
 
-__all__ = ["SINGULAR", "AMPLIFY", "singular_level", "JUMP_FROM", "BRANCHES", "LOST", "Regularity", "servo_stall", "mass_stall", "explain_stall"]
+__all__ = ["SINGULAR", "AMPLIFY", "singular_level", "JUMP_FROM", "BRANCHES", "LOST", "Regularity", "servo_stall", "mass_stall", "MassGuard", "explain_stall"]
 
 BRANCHES = ("smooth", "stop")
 """Values of ``[simulation] singular``: go on on the smooth branch, or stop (exit code 3)."""
@@ -83,6 +83,8 @@ ZERO = 1e-4
 BASE = 4
 """Points before the singular instant whose values and derivatives the extrapolation uses
 (degree ``2 BASE - 1``)."""
+MASS_WATCH = 200
+"""Largest number of coordinates whose mass matrix :class:`MassGuard` watches."""
 BRANCH_TOL = 1e-4
 """Largest change of the velocities (relative) that the projection onto the constraints may make
 to the extrapolated state for it to count as the smooth branch."""
@@ -436,6 +438,41 @@ def mass_stall(model, solver, t: float, y: np.ndarray, t0: float, y0: np.ndarray
         "without bound; the kinetic energy is degenerate at this state (check the factors in "
         "front of the velocities), or end the run before it",
         None if model.source == "<api>" else model.source)
+
+
+class MassGuard:
+    """The inertia of a model whose mass matrix varies (with the time or the coordinates),
+    watched at the end of every step: a mass matrix that becomes singular where the motion
+    does not stall (``(1 - t) x'^2/2`` at rest: ``x'' = x'/(1 - t)`` stays 0 and the step
+    goes through t = 1) is reported by :func:`mass_stall` at the first instant where its
+    smallest eigenvalue falls to 1e-6 of its size at the start.  Dense eigenvalues: watched
+    only up to :data:`MASS_WATCH` coordinates (a larger model stalls where its motion does)."""
+
+    def __init__(self, sim, t0: float, y0: np.ndarray):
+        dyn, self.sim = sim.kernel.dyn, sim
+        moving = set(dyn.q) | {dyn.t}
+        self.active = sim.n <= MASS_WATCH and any(v in moving for v in dyn.M.free_symbols)
+        if self.active:
+            self.t0, self.y0 = t0, np.array(y0, dtype=float)
+            # half the level at which mass_stall reports: the root is found below it
+            self.floor = 0.5e-6 * max(float(np.max(np.abs(self._eig(t0, self.y0)))), 1e-300)
+
+    def _eig(self, t, y):
+        solver, n = self.sim.solver, self.sim.n
+        M = np.asarray(solver.kernel.dynamics(solver.input(t, y[:n], y[n:2 * n]))["M"], dtype=float)
+        return np.linalg.eigvalsh((M + M.T) / 2)
+
+    def check(self, step) -> None:
+        """Raise :class:`~nonideal.errors.SingularSystem` when the mass matrix became singular
+        within *step* (:class:`~nonideal.simulation.guards.Step`)."""
+        if not self.active:
+            return
+        low = lambda s: float(self._eig(s, step.state(s))[0]) - self.floor  # noqa: E731
+        if low(step.b) > 0:
+            return
+        a = step.a if low(step.a) > 0 else None
+        t = step.b if a is None else brentq(low, a, step.b, xtol=1e-14 * max(1.0, abs(step.b)))
+        mass_stall(self.sim.model, self.sim.solver, t, step.state(t), self.t0, self.y0)
 
 
 def explain_stall(sim, ode, mode) -> None:
