@@ -63,6 +63,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
+from ..errors import NonidealError
 from ..modes.motion import Motion
 from ..numeric.kernel import SingularMatrix
 
@@ -319,8 +320,8 @@ class GuardRates:
                 noise = 16 * np.finfo(float).eps * ev.scale(motion) / (e * e)
                 curvature = (gp - 2.0 * g + gm) / (e * e)
                 out[k] = ((gp - gm) / (2.0 * e), np.sign(curvature) * max(abs(curvature) - noise, 0.0))
-        except (ArithmeticError, ValueError, np.linalg.LinAlgError, SingularMatrix):
-            return None
+        except (ArithmeticError, ValueError, np.linalg.LinAlgError, SingularMatrix, NonidealError):
+            return None  # no limit: the probes and the ends still guard the step
         return out
 
     def limit(self, rates, motion: Motion) -> float:
