@@ -119,6 +119,7 @@ class Regularity:
         self.kernel = kernel
         self.reference = np.zeros(len(kernel.rows))  # the largest |G_i| seen
         self.last = None  # the unit rows at the last accepted state
+        self.last_end = None  # (time, rows, regularity) at the end of the last step scanned by slopes
 
     def start(self, motion, rows: list[int]) -> None:
         """The state that starts a phase (its rows are the reference of the next step)."""
@@ -166,11 +167,15 @@ class Regularity:
             # no sign of a crossing at the ends; a dip of the regularity that returns within
             # the step (the rows becoming dependent and the motion turning back on the
             # non-smooth branch, x = |sin t|) shows in its slopes at the ends
+            # (explicit Runge-Kutta steps only: their end derivatives give the slopes for free)
             tangents = step.tangents()
-            ends = (rho(0, step.a), rho(0, step.b))
-            slopes = None if tangents is None else (
-                (self.value(tangents[1], rows) - level - ends[0]) / tangents[0],
-                (ends[1] - self.value(tangents[2], rows) + level) / tangents[0])
+            if tangents is None:
+                return None
+            last, self.last_end = self.last_end, (step.b, tuple(rows), rho(0, step.b) + level)
+            ends = (last[2] - level if last and last[:2] == (step.a, tuple(rows)) else rho(0, step.a),
+                    self.last_end[2] - level)
+            slopes = ((self.value(tangents[1], rows) - level - ends[0]) / tangents[0],
+                      (ends[1] - self.value(tangents[2], rows) + level) / tangents[0])
             scan = StepScan(rho, step.a, step.b, [ends], [True], lambda _: slopes)
             return scan.first_root(0, ends[0] > 0, 0.0)[0] if scan.worth_probing(0, *ends) else None
         ends = (rho(0, step.a), rho(0, step.b))
