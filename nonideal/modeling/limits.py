@@ -101,7 +101,8 @@ def check_nesting(text: str, source: str) -> None:
             key = c == "{" or start  # an inline table's keys, a table header
         elif c in "]}":
             if stack:
-                dots = stack.pop()[1] if stack[-1][0] == "{" else dots
+                opened, before = stack.pop()
+                dots = before if opened == "{" else dots
         elif c == "=":
             key = False
         elif c == "," and stack and stack[-1][0] == "{":

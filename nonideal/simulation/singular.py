@@ -451,7 +451,8 @@ class MassGuard:
     does not stall (``(1 - t) x'^2/2`` at rest: ``x'' = x'/(1 - t)`` stays 0 and the step
     goes through t = 1) is reported by :func:`mass_stall` at the first instant where its
     smallest eigenvalue falls to 1e-6 of its size at the start.  Dense eigenvalues: watched
-    only up to :data:`MASS_WATCH` coordinates (a larger model stalls where its motion does)."""
+    only up to :data:`MASS_WATCH` coordinates (a larger model stalls where its motion does), and
+    only when the mass matrix is positive definite at the start."""
 
     def __init__(self, sim, t0: float, y0: np.ndarray):
         dyn, self.sim = sim.kernel.dyn, sim
@@ -459,8 +460,12 @@ class MassGuard:
         self.active = sim.n <= MASS_WATCH and any(v in moving for v in dyn.M.free_symbols)
         if self.active:
             self.t0, self.y0 = t0, np.array(y0, dtype=float)
+            w = self._eig(t0, self.y0)
             # half the level at which mass_stall reports: the root is found below it
-            self.floor = 0.5e-6 * max(float(np.max(np.abs(self._eig(t0, self.y0)))), 1e-300)
+            self.floor = 0.5e-6 * max(float(np.max(np.abs(w))), 1e-300)
+            # a mass matrix singular from the start is one that the constraints complete
+            # (a sleigh's with its mass at the blade): the diagnosis of the start checks it
+            self.active = bool(w[0] > 2 * self.floor)
 
     def _eig(self, t, y):
         solver, n = self.sim.solver, self.sim.n

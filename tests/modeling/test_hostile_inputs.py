@@ -144,3 +144,18 @@ def test_a_deeply_nested_sympy_expression_is_refused_by_its_depth():
         e = sp.sin(e, evaluate=False)
     with pytest.raises(ModelError, match="nested more than 500 levels deep"):
         Model(name="deep", coordinates=["x"], kinetic="x'^2/2", potential=e)
+
+
+def test_the_nesting_of_every_model_file_shipped_is_far_below_the_limit():
+    from pathlib import Path
+
+    import nonideal
+
+    root = Path(nonideal.__file__).parent
+    for path in [*root.glob("gallery/*.toml"), *Path(__file__).parents[1].glob("data/**/*.toml")]:
+        check_nesting(path.read_text(encoding="utf-8"), str(path))
+
+
+def test_a_tower_of_powers_of_zero_is_refused():
+    with pytest.raises(ExpressionError, match="more than 1000 digits"):
+        parse_expression("-0^0.015625^-0.00756^-0.00756", {}, "x")
