@@ -193,6 +193,11 @@ def _parse(text, names, where, vectors):
         raise ExpressionError(_malformed(where, text, exc.col, exc.what)) from None
     except RecursionError:  # pragma: no cover - MAX_DEPTH keeps far below the limit
         raise ExpressionError(f"{where}: expression nested too deeply") from None
+    except ValueError as exc:  # SymPy printing an exact number of more than 4300 digits
+        if "digits" not in str(exc):
+            raise
+        raise ExpressionError(f"{where}: a number in the expression has more than "
+                              f"{MAX_DIGITS} digits (e.g. a tower of powers of 0)") from None
     if parser.unknown:
         raise parser.unknown_error()
     return expr

@@ -131,6 +131,36 @@ def test_stability_sweep_finds_maievski_bound(tmp_path):
         assert max(min(abs(z - r) for r in ref) for z in eig if abs(z) > 1e-9) < 1e-8
 
 
+@pytest.mark.parametrize("vary", [["mu_s=0:1:10000000"], ["mu_s=0:1:10000000000"],
+                                  ["mu_s=0:1:5000", "alpha=0.1:0.5:5000"]])
+def test_a_grid_beyond_the_limit_is_refused_at_once_without_a_journal(tmp_path, vary):
+    """10^7 points ended in a MemoryError traceback after 42 s (10^9: at once), with a journal
+    left behind; the grid's size is known from its axes before any value is made."""
+    from nonideal.analysis.studies.sweep import MAX_POINTS
+
+    out = tmp_path / "s.json"
+    args = [a for v in vary for a in ("--vary", v)]
+    start = time.perf_counter()
+    r = run_cli("sweep", BLOCK, *args, "--what", "evaluate", "--json", out)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert f"{MAX_POINTS:,}" in r.stderr and "the limit" in r.stderr
+    assert time.perf_counter() - start < 60
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_resume_with_a_journal_row_without_parameters_names_the_row(tmp_path):
+    from nonideal.cli.sweep import _read_journal
+    from nonideal.errors import ModelError
+
+    header = {"model": "m.toml", "what": "simulate"}
+    journal = tmp_path / "s.json.journal"
+    journal.write_text(json.dumps({"sweep": header}) + "\n"
+                       + json.dumps({"parameters": {"mu": 0.1}, "exit_code": 0}) + "\n"
+                       + json.dumps({"exit_code": 0}) + "\n")
+    with pytest.raises(ModelError, match=r"s.json.journal, line 3: a row without its 'parameters'"):
+        _read_journal(journal, header)
+
+
 def test_a_mistyped_quantity_is_refused_before_the_sweep_runs(tmp_path):
     """--quantity is checked on the first point: the other points never run, no journal is
     left to block the next run, and the corrected command then succeeds."""
