@@ -42,7 +42,8 @@ __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
 FORMAT_VERSION = 1
 
 TOP_KEYS = {"model", "parameters", "coordinates", "energy", "forces", "bodies", "gravity", "loads",
-            "constraints", "contacts", "initial", "simulation", "forms", "units", "controls"}
+            "constraints", "contacts", "initial", "simulation", "forms", "units", "controls",
+            "speeds", "outputs"}
 SECTION_KEYS = {
     "model": {"name", "format", "description", "source"},
     "coordinates": {"q"},
@@ -437,6 +438,13 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
             problems.append(f"[forms] independent: must be a list of coordinate names "
                             f"(got {describe(independent)})")
             independent = None
+    speeds, outputs = {}, {}
+    for key, store in (("speeds", speeds), ("outputs", outputs)):
+        section = data.get(key, {})
+        if not isinstance(section, dict):
+            problems.append(f"[{key}]: must be a table name = \"expression\"")
+            continue
+        store.update({k: v for k, v in section.items() if check.expr(section, k, f"[{key}] {k}")})
     gravity = table("gravity").get("vector")
     if gravity is not None and not check.expr_list(table("gravity"), "vector", "[gravity]", (2, 3)):
         gravity = None
@@ -464,6 +472,8 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 source=source,
                 units=data.get("units"),
                 controls=tuple(controls),
+                speeds=speeds,
+                outputs=outputs,
             )
         except ModelError as exc:
             problems += [p for p in exc.problems if p not in problems]

@@ -16,9 +16,9 @@ from .contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton
                        read_infinite)
 from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
-
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
 from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
+from .speeds import finish_speeds_and_outputs, normalize_speeds
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
 
 __all__ = ["Normalizer"]
@@ -33,7 +33,6 @@ class Normalizer:
 
     def set(self, name: str, value: Any) -> None:
         object.__setattr__(self.m, name, value)
-
     def smooth(self, e: sp.Expr | None, where: str) -> sp.Expr | None:
         """Expressions that the equations differentiate must be smooth (SymEngine cannot
         differentiate abs/sign/min/max, and the motion would not be defined at the kinks)."""
@@ -73,6 +72,7 @@ class Normalizer:
         self.names_and_parameters()
         if self.problems:
             return
+        normalize_speeds(self)   # first: the speed names may be used in every later expression
         self.energy_and_forces()
         self.bodies_and_loads()
         normalize_controls(self)
@@ -80,6 +80,7 @@ class Normalizer:
         self.contacts()
         self.initial_and_settings()
         self.summarize_unknown()
+        finish_speeds_and_outputs(self)
 
     def summarize_unknown(self) -> None:
         """One line listing every undefined name and where it is used (when there are several)."""
@@ -542,7 +543,7 @@ class Normalizer:
     # -- initial state and settings
     def initial_and_settings(self) -> None:
         m = self.m
-        allowed = set(m.coordinates) | {c + "'" for c in m.coordinates}
+        allowed = set(m.coordinates) | {c + "'" for c in m.coordinates} | set(m.speeds)
         names = {n: sp.Symbol(n) for n in m.parameters}
         values = parameter_values(m.parameters)
         out, given = {}, dict(m.initial)
@@ -553,7 +554,7 @@ class Normalizer:
             where = f"[initial] {key}"
             if key not in allowed:
                 self.problems.append(
-                    f"{where}: not a coordinate or velocity{did_you_mean(str(key), allowed)}"
+                    f"{where}: not a coordinate or velocity{' or speed' * bool(m.speeds)}{did_you_mean(str(key), allowed)}"
                 )
                 continue
             try:
