@@ -23,7 +23,10 @@ from typing import Any
 
 import sympy as sp
 
+from .values import parameter_values
+
 __all__ = [
+    "normalize_friction",
     "Contact",
     "Coulomb",
     "IdealRolling",
@@ -202,3 +205,47 @@ class Contact:
         if isinstance(slip, (str, int, float)) or not hasattr(slip, "__iter__"):
             slip = (slip,)
         object.__setattr__(self, "slip", tuple(slip))
+
+
+def normalize_friction(norm, law: Any, where: str):
+    """The friction law of a contact with its coefficients parsed and checked (None after a
+    problem, appended to ``norm.problems``); *norm* is the model's Normalizer."""
+
+    pvals = parameter_values(norm.m.parameters)
+
+    def coefficient(value: Any, key: str):
+        e = norm.expr(value, f"{where}: {key}", 0)
+        if e is None:
+            return None
+        if not e.free_symbols & set(norm.m.q):
+            v = e.xreplace(pvals)
+            if v.is_number and float(v) < 0:
+                norm.problems.append(f"{where}: {key} = {float(v):g} is negative; a friction "
+                                     "coefficient is >= 0")
+                return None
+        return e
+
+    law, problem = read_infinite(law, where)  # mu = inf: ideal rolling, or a problem
+    if problem or isinstance(law, IdealRolling):
+        norm.problems += [problem] if problem else []
+        return None if problem else law
+    if isinstance(law, Coulomb):
+        mu = coefficient(law.mu, "mu")
+        # mu_static defaults to mu: a problem of mu is not reported again under a key the
+        # user did not write
+        mus = coefficient(law.mu_static, "mu_static") if law.mu_static is not None else mu
+        if mu is None or mus is None:
+            return None
+        return Coulomb(mu, mus)
+    if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)):
+        mu = coefficient(law.mu, "mu")
+        if mu is None:
+            return None
+        if not float(law.eps) > 0:
+            norm.problems.append(f"{where}: eps must be > 0 (got {law.eps})")
+            return None
+        return type(law)(mu, float(law.eps))
+    norm.problems.append(
+        f"{where}: friction must be Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb"
+    )
+    return None

@@ -12,11 +12,12 @@ import numpy as np
 import sympy as sp
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
-from .contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb,
-                       read_infinite)
+from .contacts import Contact, Newton, Plastic, normalize_friction
 from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
+from .normalize_kinematics import (norm_constraints, normalize_kinematics, quaternion_initial_problems,
+                                   resolve_body)
 from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
 from .speeds import finish_speeds_and_outputs, normalize_speeds
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
@@ -30,6 +31,7 @@ class Normalizer:
     def __init__(self, model, problems: list[str]):
         self.m, self.problems = model, problems
         self._names: dict[int, dict[str, sp.Expr]] = {}   # by derivative order, once known
+        self.kinematics = None    # the frames and points, once normalized
 
     def set(self, name: str, value: Any) -> None:
         object.__setattr__(self.m, name, value)
@@ -61,7 +63,7 @@ class Normalizer:
 
     def expr(self, value: Any, where: str, order: int = 1) -> sp.Expr | None:
         try:
-            return to_expr(value, self.names(order), where, self.m.coordinates)
+            return to_expr(value, self.names(order), where, self.m.coordinates, self.kinematics)
         except ExpressionError as exc:
             self.problems.extend(exc.problems)
             self.unknown.extend(exc.unknown)
@@ -72,9 +74,11 @@ class Normalizer:
         self.names_and_parameters()
         if self.problems:
             return
-        normalize_speeds(self)   # first: the speed names may be used in every later expression
+        self.kinematics = normalize_kinematics(self)
+        self.m.__dict__["_kinematics"] = self.kinematics
+        normalize_speeds(self)       # the speed names may be used in every later expression
+        self.bodies_and_loads()      # first: momentum(body) may appear in energies and forces
         self.energy_and_forces()
-        self.bodies_and_loads()
         normalize_controls(self)
         self.constraints()
         self.contacts()
@@ -212,11 +216,14 @@ class Normalizer:
             if b.name in names:
                 self.problems.append(f"{where}: duplicate body name")
             names.add(b.name)
+            b = resolve_body(self, self.kinematics, b, where)
+            if b is None:
+                continue
             mass = self.expr(b.mass, f"{where}: mass", 0)
             if isinstance(b, Particle):
                 pos = self.vector(b.position, f"{where}: position", (2, 3))
                 if mass is not None and pos is not None:
-                    bodies.append(Particle(b.name, mass, pos))
+                    bodies.append(replace(b, mass=mass, position=pos))
             elif isinstance(b, PlanarBody):
                 pos = self.vector(b.position, f"{where}: position", (2,))
                 inertia = self.expr(b.inertia, f"{where}: inertia", 0)
@@ -230,10 +237,12 @@ class Normalizer:
                 if len(rows_i) != 3 or len(rows_r) != 3:
                     self.problems.append(f"{where}: inertia and rotation must be 3x3")
                 elif None not in (mass, pos, *rows_i, *rows_r):
-                    bodies.append(RigidBody(b.name, mass, tuple(rows_i), pos, tuple(rows_r)))
+                    bodies.append(replace(b, mass=mass, inertia=tuple(rows_i), position=pos,
+                                          rotation=tuple(rows_r)))
             else:
                 self.problems.append(f"{where}: not a Particle, PlanarBody or RigidBody")
         self.set("bodies", tuple(bodies))
+        self.kinematics.bodies = {b.name: b for b in bodies}
         if m.gravity is not None:
             self.set("gravity", self.vector(m.gravity, "[gravity] vector", (2, 3)))
         loads = []
@@ -284,7 +293,7 @@ class Normalizer:
     def constraints(self) -> None:
         m = self.m
         out, names = [], set()
-        for c in m.constraints:
+        for c in norm_constraints(self.kinematics, m.constraints, self.problems):
             where = f"constraint '{c.name}'"
             if not isinstance(c.name, str) or not is_identifier(c.name):
                 self.problems.append(f"{where}: name must be an identifier (letters, digits, _)")
@@ -501,44 +510,7 @@ class Normalizer:
                         f"'{name[7:]}' in the equations; rename it")
 
     def friction(self, law: Any, where: str):
-        pvals = parameter_values(self.m.parameters)
-
-        def coefficient(value: Any, key: str):
-            e = self.expr(value, f"{where}: {key}", 0)
-            if e is None:
-                return None
-            if not e.free_symbols & set(self.m.q):
-                v = e.xreplace(pvals)
-                if v.is_number and float(v) < 0:
-                    self.problems.append(f"{where}: {key} = {float(v):g} is negative; a friction "
-                                         "coefficient is >= 0")
-                    return None
-            return e
-
-        law, problem = read_infinite(law, where)  # mu = inf: ideal rolling, or a problem
-        if problem or isinstance(law, IdealRolling):
-            self.problems += [problem] if problem else []
-            return None if problem else law
-        if isinstance(law, Coulomb):
-            mu = coefficient(law.mu, "mu")
-            # mu_static defaults to mu: a problem of mu is not reported again under a key the
-            # user did not write
-            mus = coefficient(law.mu_static, "mu_static") if law.mu_static is not None else mu
-            if mu is None or mus is None:
-                return None
-            return Coulomb(mu, mus)
-        if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)):
-            mu = coefficient(law.mu, "mu")
-            if mu is None:
-                return None
-            if not float(law.eps) > 0:
-                self.problems.append(f"{where}: eps must be > 0 (got {law.eps})")
-                return None
-            return type(law)(mu, float(law.eps))
-        self.problems.append(
-            f"{where}: friction must be Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb"
-        )
-        return None
+        return normalize_friction(self, law, where)
 
     # -- initial state and settings
     def initial_and_settings(self) -> None:
@@ -570,6 +542,7 @@ class Normalizer:
                 continue
             out[key] = e
         self.set("initial", out)
+        self.problems += quaternion_initial_problems(self.kinematics, out, values)
         if m.independent is not None:
             ind = tuple(m.independent)
             for name in ind:

@@ -75,7 +75,7 @@ def normalize_speeds(norm) -> None:
             norm.problems.append(f"{where}: '{name}' is also a {what}; choose another name")
             continue
         try:
-            e = to_expr(value, names, where, m.coordinates)
+            e = to_expr(value, names, where, m.coordinates, getattr(norm, "kinematics", None))
         except ExpressionError as exc:
             unknown = [u for u, _ in exc.unknown if u in raw]
             if unknown:
@@ -176,8 +176,12 @@ def normalize_outputs(norm) -> None:
             norm.problems.append(f"{where}: '{name}' is already {what}; choose another name")
             continue
         try:
-            e = to_expr(value, names, where, m.coordinates)
+            e = to_expr(value, names, where, m.coordinates, getattr(norm, "kinematics", None))
         except ExpressionError as exc:
+            vector = _vector_output(norm, value, names, where) if "is a vector" in str(exc) else None
+            if vector is not None:   # a vector output: its components in N, name.x, name.y, name.z
+                out.update({f"{name}.{axis}": c for axis, c in zip("xyz", vector)})
+                continue
             for p in exc.problems:
                 bad = p.split("'")[1] if "'" in p else ""
                 if bad.startswith("lambda_"):
@@ -188,6 +192,17 @@ def normalize_outputs(norm) -> None:
             continue
         out[name] = e
     object.__setattr__(m, "outputs", out)
+
+
+def _vector_output(norm, value, names, where):
+    """The components in N of a vector-valued output, or None (the error is reported)."""
+    from .expressions import parse_vector
+
+    try:
+        return parse_vector(value, names, where, norm.kinematics).components
+    except ExpressionError as exc:
+        norm.problems.extend(exc.problems)
+        return None
 
 
 def finish_speeds_and_outputs(norm) -> None:
