@@ -29,7 +29,7 @@ import symengine as se
 
 from ..eom import Auxiliary, EquationsOfMotion
 from .base import Formalism, project_rows, quadratic_form, split_rows, transpose_times
-from .quasi import Reduced, fold_matrix, invert, speed_basis
+from .quasi import Reduced, fold_matrix, invert, norm_reducer, speed_basis
 
 __all__ = ["Kane"]
 
@@ -73,7 +73,8 @@ class Kane(Formalism):
         Qf = transpose_times(Phi, dyn.Q, n, k)
         G, gamma, B = project_rows(kept, Reduced(Phi, r), n)
         if subs:
-            A, c, Qf, Phi, r, G, gamma, B = [fold_matrix(M_.subs(subs)) for M_ in (A, c, Qf, Phi, r, G, gamma, B)]
+            reduce = norm_reducer(dyn.model)
+            A, c, Qf, Phi, r, G, gamma, B = [fold_matrix(M_.subs(subs), reduce) for M_ in (A, c, Qf, Phi, r, G, gamma, B)]
             aux = basis.auxiliaries()
         notes = [basis.note()]
         if ideal:

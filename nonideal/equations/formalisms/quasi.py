@@ -145,7 +145,11 @@ def speed_basis(dyn, rows, independent, form: str) -> SpeedBasis:
         _, ind = partition(dyn, rows, independent)
         cand = [(model.coordinates[j] + "'", dyn.qd[j]) for j in ind]
         declared = False
-    Wc = [[se.diff(e, v) for v in dyn.qd] for _, e in cand]
+    # the speeds' coefficients with the trigonometric identities folded (a body component of an
+    # angular velocity written through the frames carries terms of the other angles that cancel)
+    reduce = norm_reducer(model) or (lambda x: x)
+    cand = [(name, fold_trig(reduce(e))) for name, e in cand]
+    Wc = [[fold_trig(se.diff(e, v)) for v in dyn.qd] for _, e in cand]
     flat = [x for row in G + Wc for x in row]
     inst = [x.reshape(m + len(cand), n) for x in numeric_instances(dyn, flat, count=2)]
     inst = [x for x in inst if np.all(np.isfinite(x))] or inst
@@ -198,10 +202,11 @@ def invert(basis: SpeedBasis, dyn, form: str, columns: list | None = None, facto
         import sympy as sp
 
         Ws = sp.Matrix(n, n, lambda i, j: sp.sympify(str(Wl[i][j])) if Wl[i][j].free_symbols else sp.sympify(Wl[i][j]))
-        det = sp.trigsimp(sp.factor(Ws.det(method="berkowitz")))
+        reduce = norm_reducer(dyn.model) or (lambda x: x)
+        det = sp.trigsimp(sp.factor(sp.sympify(str(reduce(se.sympify(Ws.det(method="berkowitz")))))))
         if det != 0:
             adj = Ws.adjugate(method="berkowitz")
-            adj_se = [[se.sympify(sp.expand(adj[i, j])) for j in range(n)] for i in range(n)]
+            adj_se = [[reduce(se.sympify(sp.expand(adj[i, j]))) for j in range(n)] for i in range(n)]
             d = se.sympify(det)
             X = [[sum((adj_se[i][l] * Y[l][c] for l in range(n) if adj_se[i][l] != 0 and Y[l][c] != 0),
                       se.Integer(0)) / d for c in range(len(columns))] for i in range(n)]
@@ -266,12 +271,48 @@ def fold_trig(expr):
     return best
 
 
-def fold_matrix(M):
-    """:func:`fold_trig` on every entry."""
+def norm_reducer(model):
+    """A function reducing a polynomial in Euler parameters modulo their unit norm
+    (``e0^k -> e0^(k mod 2) (1 - e1^2 - e2^2 - e3^2)^(k // 2)``, expanded: a canonical form on
+    the constraint manifold, where the equations hold), or None when the model has no frame
+    given by Euler parameters.  The rates of unit Euler parameters then read ``2 G(e) e'``."""
+    quads = [tuple(se.Symbol(str(c)) for c in f.quaternion) for f in getattr(model, "frames", ()) or ()
+             if getattr(f, "quaternion", None)]
+    if not quads:
+        return None
+    heads = {q[0]: q[1:] for q in quads}
+
+    def reduce(expr):
+        expr = se.sympify(expr)
+        if not (expr.free_symbols & set(heads)) or count_ops([expr]) > 20000:
+            return expr
+        e = se.expand(expr)
+        terms = e.args if isinstance(e, se.Add) else (e,)
+        out = []
+        for t in terms:
+            factors = t.args if isinstance(t, se.Mul) else (t,)
+            new = []
+            for f in factors:
+                if isinstance(f, se.Pow) and f.args[0] in heads and f.args[1].is_integer and int(f.args[1]) >= 2:
+                    k = int(f.args[1])
+                    rest = sum((x * x for x in heads[f.args[0]]), se.Integer(0))
+                    new.append(f.args[0] ** (k % 2) * (1 - rest) ** (k // 2))
+                else:
+                    new.append(f)
+            out.append(se.Mul(*new))
+        return se.expand(se.Add(*out))
+    return reduce
+
+
+def fold_matrix(M, reduce=None):
+    """:func:`fold_trig` (and the Euler-parameter reduction *reduce*) on every entry."""
     out = se.zeros(M.rows, M.cols)
     for i in range(M.rows):
         for j in range(M.cols):
-            out[i, j] = fold_trig(M[i, j]) if M[i, j] != 0 else M[i, j]
+            x = M[i, j]
+            if x != 0:
+                x = fold_trig(reduce(x) if reduce is not None else x)
+            out[i, j] = x
     return out
 
 
@@ -359,6 +400,9 @@ def quasi_lagrangian(dyn, basis: SpeedBasis, ideal, form: str) -> QuasiLagrangia
     R = se.Matrix([[Phi[i, c] for c in range(k)] for i in range(n)])
     r = se.Matrix([[-sum((Phi[i, c] * b[c] for c in range(n) if Phi[i, c] != 0 and b[c] != 0), se.Integer(0))]
                    for i in range(n)]).subs(on_motion)
+    reduce = norm_reducer(dyn.model)
+    if reduce is not None:
+        Pi, R, r = (fold_matrix(M_, reduce) for M_ in (Pi, R, r))
     return QuasiLagrangian(basis, Phi, phi0, u, qdot, Tstar, dT, Pi, R, r, on_motion)
 
 
@@ -369,11 +413,12 @@ def assemble(dyn, ql: QuasiLagrangian, lhs: list):
     acc = ql.basis.accelerations()
     zero_sigma = {s: se.Integer(0) for s in ql.basis.sigma}
     zero_acc = {a: se.Integer(0) for a in acc}
+    reduce = norm_reducer(dyn.model) or (lambda x: x)
     A = se.zeros(k, k)
     c = se.zeros(k, 1)
     for r_ in range(k):
         e = se.sympify(lhs[r_]).subs(zero_sigma)
         for s in range(k):
-            A[r_, s] = fold_trig(se.diff(e, acc[s]))
-        c[r_, 0] = fold_trig(e.subs(zero_acc))
+            A[r_, s] = fold_trig(reduce(se.diff(e, acc[s])))
+        c[r_, 0] = fold_trig(reduce(e.subs(zero_acc)))
     return A, c
