@@ -48,3 +48,18 @@ def test_invariants_and_same_motion_as_euler_angles(model):
 
 def test_run_is_ok():
     assert gallery.run("heavy-symmetric-top-speeds", verbose=False)["ok"]
+
+
+def test_a_vector_output_gives_its_components_in_N():
+    from nonideal import evaluate
+    from nonideal.gallery.heavy_symmetric_top_speeds import build
+
+    m = build().replace(outputs={"H": "angular_momentum(top, O)", "Hz": "dot(angular_momentum(top, O), N.z)"})
+    assert list(m.outputs) == ["H.x", "H.y", "H.z", "Hz"]
+    out = evaluate(m).outputs
+    assert out["H.z"] == pytest.approx(out["Hz"], rel=1e-14)
+    # tilted by th0 about N.x, spinning w3 about B.z and w2 about B.y: H_O = J_O omega in B, turned
+    th0, A, C, m_, l = 0.5, 0.02, 0.03, 1.0, 0.1
+    hb = np.array([0.0, (A + m_ * l * l) * 2.0, C * 40.0])
+    R = np.array([[1, 0, 0], [0, np.cos(th0), -np.sin(th0)], [0, np.sin(th0), np.cos(th0)]])
+    assert [out["H.x"], out["H.y"], out["H.z"]] == pytest.approx(list(R @ hb), abs=1e-12)
