@@ -62,6 +62,7 @@ class Kinematics:
         self._next.update({s: d for s, d in zip(qd, qdd)})
         self._cache: dict = {}
         self.bodies: dict[str, object] = {}   # normalized bodies by name (momentum, ...)
+        self.points_ready = True   # False while the points' own positions are read
 
     # ---------------------------------------------------------------- calculus
     def dt(self, expr) -> sp.Expr:
@@ -242,6 +243,9 @@ class Kinematics:
     def check(self, kind: str, name: str) -> None:
         """Raise :class:`Unknown` if *name* is not a declared frame / point / body."""
         known = self.names_of(kind)
+        if kind == "point" and not self.points_ready:
+            raise Unknown("a point's position may use the frames' unit vectors (B.x, dot(N.z, B.x) "
+                          "...) but not the points: place it from another point with 'from'")
         if name not in known:
             declare = {"frame": "[[frames]]", "point": "[[points]]", "body": "[[bodies]]"}[kind]
             plural = "bodies" if kind == "body" else kind + "s"

@@ -63,6 +63,10 @@ def normalize_kinematics(norm) -> Kinematics:
             specs[f.name] = spec
             out_frames.append(spec[3])
     _chains("frame", {n: s[0] for n, s in specs.items()}, FIXED, "parent", problems, specs)
+    # the frames first: point positions may use their unit vectors (B.x, dot(N.z, B.x) ...)
+    kin = Kinematics({n: s[:3] for n, s in specs.items()}, {}, m.q, m.qd, m.qdd, t)
+    kin.points_ready = False
+    norm.kinematics = kin
     out_points, pts = [], {}
     for p in points:
         if not isinstance(p, Point):
@@ -83,7 +87,9 @@ def normalize_kinematics(norm) -> Kinematics:
     _chains("point", {n: s[0] for n, s in pts.items()}, ORIGIN, "from", problems, pts)
     norm.set("frames", tuple(out_frames))
     norm.set("points", tuple(out_points))
-    return Kinematics({n: s[:3] for n, s in specs.items()}, pts, m.q, m.qd, m.qdd, t)
+    kin.points.update(pts)
+    kin.points_ready = True
+    return kin
 
 
 def _chains(kind: str, parents: dict, root: str, key: str, problems: list[str], specs: dict) -> None:
