@@ -74,7 +74,7 @@ class Kane(Formalism):
         G, gamma, B = project_rows(kept, Reduced(Phi, r), n)
         if subs:
             reduce = norm_reducer(dyn.model)
-            A, c, Qf, Phi, r, G, gamma, B = [fold_matrix(M_.subs(subs), reduce) for M_ in (A, c, Qf, Phi, r, G, gamma, B)]
+            A, c, Qf, Phi, r, G, gamma, B = [fold_matrix(M_.subs(subs), reduce, n) for M_ in (A, c, Qf, Phi, r, G, gamma, B)]
             aux = basis.auxiliaries()
         notes = [basis.note()]
         if ideal:

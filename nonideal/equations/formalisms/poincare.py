@@ -122,7 +122,7 @@ class PoincareChetaev(Formalism):
             form=self.name, title=self.title, citation=self.citation, model=dyn.model,
             unknowns=basis.unknowns, multipliers=tuple(f"lambda_{r_.name}" for r_ in kept),
             constraint_names=tuple(r_.name for r_ in kept), rows=tuple(rows), independent=basis.names,
-            A_=A, c_=c, Qf_=se.Matrix([[fold_trig(ql.Pi[i, 0])] for i in range(k)]) if k else ql.Pi,
+            A_=A, c_=c, Qf_=ql.Pi,
             B_=B, G_=G, gamma_=gam, R_=ql.R, r_=ql.r, auxiliaries=basis.auxiliaries(), extras_=extras,
             notes=tuple(notes), eliminated=tuple(r_.name for r_ in ideal),
             speeds=basis.names if basis.declared else (),

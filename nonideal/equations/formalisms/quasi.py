@@ -304,8 +304,12 @@ def norm_reducer(model):
     return reduce
 
 
-def fold_matrix(M, reduce=None):
-    """:func:`fold_trig` (and the Euler-parameter reduction *reduce*) on every entry."""
+def fold_matrix(M, reduce=None, n: int = 0):
+    """:func:`fold_trig` (and the Euler-parameter reduction *reduce*) on every entry -- for
+    systems of at most :data:`ADJUGATE_MAX` coordinates (*n*), whose equations are read; a
+    larger one (a bicycle) is left as derived: walking its expression trees costs minutes."""
+    if n > ADJUGATE_MAX:
+        return M
     out = se.zeros(M.rows, M.cols)
     for i in range(M.rows):
         for j in range(M.cols):
@@ -400,9 +404,7 @@ def quasi_lagrangian(dyn, basis: SpeedBasis, ideal, form: str) -> QuasiLagrangia
     R = se.Matrix([[Phi[i, c] for c in range(k)] for i in range(n)])
     r = se.Matrix([[-sum((Phi[i, c] * b[c] for c in range(n) if Phi[i, c] != 0 and b[c] != 0), se.Integer(0))]
                    for i in range(n)]).subs(on_motion)
-    reduce = norm_reducer(dyn.model)
-    if reduce is not None:
-        Pi, R, r = (fold_matrix(M_, reduce) for M_ in (Pi, R, r))
+    Pi, R, r = (fold_matrix(M_, norm_reducer(dyn.model), n) for M_ in (Pi, R, r))
     return QuasiLagrangian(basis, Phi, phi0, u, qdot, Tstar, dT, Pi, R, r, on_motion)
 
 
@@ -414,11 +416,15 @@ def assemble(dyn, ql: QuasiLagrangian, lhs: list):
     zero_sigma = {s: se.Integer(0) for s in ql.basis.sigma}
     zero_acc = {a: se.Integer(0) for a in acc}
     reduce = norm_reducer(dyn.model) or (lambda x: x)
+    if dyn.n > ADJUGATE_MAX:   # large: left as derived (see fold_matrix)
+        reduce, fold = (lambda x: x), (lambda x: x)
+    else:
+        fold = fold_trig
     A = se.zeros(k, k)
     c = se.zeros(k, 1)
     for r_ in range(k):
         e = se.sympify(lhs[r_]).subs(zero_sigma)
         for s in range(k):
-            A[r_, s] = fold_trig(reduce(se.diff(e, acc[s])))
-        c[r_, 0] = fold_trig(reduce(e.subs(zero_acc)))
+            A[r_, s] = fold(reduce(se.diff(e, acc[s])))
+        c[r_, 0] = fold(reduce(e.subs(zero_acc)))
     return A, c

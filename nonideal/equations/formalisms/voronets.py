@@ -47,7 +47,7 @@ from ..dynamics import count_ops
 from ..eom import EquationsOfMotion
 from ...errors import FormNotApplicable
 from .base import Formalism, partition, project_rows, split_rows, symbolic_solve, vanishing
-from .quasi import Reduced, fold_trig, velocity_rows
+from .quasi import ADJUGATE_MAX, Reduced, fold_trig, velocity_rows
 
 __all__ = ["Voronets", "Chaplygin"]
 
@@ -97,15 +97,16 @@ class Voronets(Formalism):
             lhs.append(e.subs(elim))
             rhs.append((Q[i] + sum((a[D][c] * Q[D] for D in dep), se.Integer(0))).subs(elim))
         acc = [dyn.qdd[i] for i in ind]
+        fold = fold_trig if n <= ADJUGATE_MAX else (lambda x: x)   # large systems: as derived
         zero_acc = {x: se.Integer(0) for x in dyn.qdd}
         A = se.zeros(k, k)
         cvec = se.zeros(k, 1)
         Qf = se.zeros(k, 1)
         for r in range(k):
             for s in range(k):
-                A[r, s] = fold_trig(se.diff(lhs[r], acc[s]))
-            cvec[r, 0] = fold_trig(lhs[r].subs(zero_acc))
-            Qf[r, 0] = fold_trig(rhs[r])
+                A[r, s] = fold(se.diff(lhs[r], acc[s]))
+            cvec[r, 0] = fold(lhs[r].subs(zero_acc))
+            Qf[r, 0] = fold(rhs[r])
         V = se.zeros(n, k)
         w = se.zeros(n, 1)
         for c, i in enumerate(ind):
@@ -122,9 +123,9 @@ class Voronets(Formalism):
                          + " by " + ", ".join(r.name for r in ideal))
         extras = {}
         if m and count_ops(list(elim.values())) <= 200:
-            extras["dependent velocities"] = "; ".join(f"{coords[D]}' = {fold_trig(elim[qd[D]])}" for D in dep)
+            extras["dependent velocities"] = "; ".join(f"{coords[D]}' = {fold(elim[qd[D]])}" for D in dep)
         if count_ops([Theta]) <= 300:
-            extras["Theta"] = fold_trig(Theta)
+            extras["Theta"] = fold(Theta)
         return EquationsOfMotion(
             form=self.name, title=self.title, citation=self.citation, model=dyn.model,
             unknowns=tuple(coords[j] + "''" for j in ind),
