@@ -30,7 +30,7 @@ import sympy as sp
 from ..errors import did_you_mean
 
 __all__ = ["Frame", "FIXED", "ORIGIN", "parse_sequence", "relative", "elementary",
-           "quaternion_matrix"]
+           "quaternion_matrix", "matmul"]
 
 FIXED = "N"      #: the fixed (inertial) frame
 ORIGIN = "O"     #: its origin
@@ -151,6 +151,14 @@ def quaternion_matrix(e: Sequence[sp.Expr]) -> sp.Matrix:
         [2 * (e1 * e3 - e0 * e2), 2 * (e0 * e1 + e2 * e3), e0**2 - e1**2 - e2**2 + e3**2]])
 
 
+def matmul(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:
+    """``A @ B`` entry by entry, zero factors skipped: SymPy's own product converts symbolic
+    matrices to a polynomial domain first, ten times slower on rotation chains."""
+    rows = [[sp.Add(*[A[i, k] * B[k, j] for k in range(A.cols) if A[i, k] != 0 and B[k, j] != 0])
+             for j in range(B.cols)] for i in range(A.rows)]
+    return sp.Matrix(rows)
+
+
 def _vee(W: sp.Matrix) -> sp.Matrix:
     return sp.Matrix([W[2, 1], W[0, 2], W[1, 0]])
 
@@ -182,22 +190,22 @@ def relative(kind: str, data: dict, dt: Callable[[sp.Expr], sp.Expr]):
         if kind == "space":   # R = R_n ... R_1 about the parent's axes
             R = sp.eye(3)
             for Rk in Rs:
-                R = Rk * R
+                R = matmul(Rk, R)
             # w_parent = sum_k (R_n ... R_{k+1}) e_k a_k'
             w = sp.zeros(3, 1)
             outer = sp.eye(3)
             for k in reversed(range(n)):
                 w += outer[:, axes[k]] * rates[k]
-                outer = outer * Rs[k]
-            return R, w, R.T * w
+                outer = matmul(outer, Rs[k])
+            return R, w, matmul(R.T, w)
         # body: R = R_1 ... R_n; w_parent = sum_k (R_1..R_{k-1}) e_k a_k',
         # w_own = sum_k (R_{k+1}..R_n)^T e_k a_k' (row a_k of the suffix product)
         prefix = [sp.eye(3)]
         for Rk in Rs:
-            prefix.append(prefix[-1] * Rk)
+            prefix.append(matmul(prefix[-1], Rk))
         suffix = [sp.eye(3)]
         for Rk in reversed(Rs):
-            suffix.insert(0, Rk * suffix[0])
+            suffix.insert(0, matmul(Rk, suffix[0]))
         w_parent = sp.zeros(3, 1)
         w_own = sp.zeros(3, 1)
         for k in range(n):
@@ -213,7 +221,7 @@ def relative(kind: str, data: dict, dt: Callable[[sp.Expr], sp.Expr]):
             w = u * dt(a)
             return R, w, w
         Rd = R.applyfunc(dt)
-        return R, _vee(Rd * R.T), _vee(R.T * Rd)
+        return R, _vee(matmul(Rd, R.T)), _vee(matmul(R.T, Rd))
     if kind == "quaternion":
         e = data["e"]
         ed = [dt(x) for x in e]
@@ -223,4 +231,4 @@ def relative(kind: str, data: dict, dt: Callable[[sp.Expr], sp.Expr]):
         return R, 2 * (s * vd - sd * v + v.cross(vd)), 2 * (s * vd - sd * v - v.cross(vd))
     R = data["R"]
     Rd = R.applyfunc(dt)
-    return R, _vee(Rd * R.T), _vee(R.T * Rd)
+    return R, _vee(matmul(Rd, R.T)), _vee(matmul(R.T, Rd))

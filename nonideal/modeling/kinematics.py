@@ -29,8 +29,8 @@ from collections.abc import Callable, Mapping, Sequence
 import sympy as sp
 
 from ..errors import did_you_mean
-from .frames import FIXED, ORIGIN, relative
-from .vectors import AXES, Unknown, Vector, add, cross, zero
+from .frames import FIXED, ORIGIN, matmul, relative
+from .vectors import AXES, Unknown, Vector, add, as_basic, cross, zero
 
 __all__ = ["Kinematics", "RESERVED_KINEMATIC_NAMES"]
 
@@ -67,7 +67,7 @@ class Kinematics:
     # ---------------------------------------------------------------- calculus
     def dt(self, expr) -> sp.Expr:
         """The total time derivative of an expression in q, q', t (q'' where q' occurs)."""
-        expr = sp.sympify(expr)
+        expr = as_basic(expr)
         free = expr.free_symbols
         out = [sp.diff(expr, self.t)] if self.t in free else []
         for s in sorted(free, key=lambda s: s.name):
@@ -96,7 +96,7 @@ class Kinematics:
         def build():
             R = self._relative(name)[0]
             parent = self.frames[name][0]
-            return R if parent == FIXED else self.rotation(parent) * R
+            return R if parent == FIXED else matmul(self.rotation(parent), R)
         return self._memo(("R", name), build)
 
     def omega(self, name: str) -> Vector:
@@ -109,7 +109,7 @@ class Kinematics:
             w = self._relative(name)[1]
             if parent == FIXED:
                 return Vector(list(w))
-            return self.omega(parent) + Vector(list(self.rotation(parent) * w))
+            return self.omega(parent) + Vector(list(matmul(self.rotation(parent), w)))
         return self._memo(("w", name), build)
 
     def omega_own(self, name: str) -> sp.Matrix:
@@ -120,7 +120,7 @@ class Kinematics:
         def build():
             parent = self.frames[name][0]
             R, _, w = self._relative(name)
-            return w if parent == FIXED else R.T * self.omega_own(parent) + w
+            return w if parent == FIXED else matmul(R.T, self.omega_own(parent)) + w
         return self._memo(("w_own", name), build)
 
     def alpha(self, name: str) -> Vector:
@@ -132,24 +132,33 @@ class Kinematics:
         return Vector(list(self.rotation(name)[:, axis]))
 
     # ---------------------------------------------------------------- points
-    def _offset(self, name: str):
-        """``(R p, R p', R p'')`` of point *name* from its origin (N components; None when
-        the position components are constants)."""
+    def _offset(self, name: str, order: int = 0):
+        """``R p`` (order 0), ``R p'`` (1) or ``R p''`` (2) of point *name* from its origin, in N
+        components: the position and the relative velocity and acceleration in its frame's
+        axes, turned into N.  None for orders 1, 2 when the components are constants.  Each
+        computed only when asked (a contact point's position is used, rarely its rates)."""
         def build():
             _, frame, p = self.points[name]
-            R = self.rotation(frame)
-            moving = any(self._moves(c) for c in p)
-            pd = [self.dt(c) for c in p] if moving else None
-            r = Vector(list(R * sp.Matrix(p))) if frame != FIXED else Vector(p)
-            if pd is None:
-                return r, None, None
-            pdd = [self.dt(c) for c in pd]
-            turn = (lambda v: Vector(list(R * sp.Matrix(v)))) if frame != FIXED else Vector
-            return r, turn(pd), turn(pdd)
-        return self._memo(("offset", name), build)
+            if order == 0:
+                comps = p
+            elif not any(self._moves(c) for c in p):
+                return None
+            else:
+                below = self._components(name, order - 1)
+                comps = [self.dt(c) for c in below]
+            self._cache[("comps", name, order)] = comps
+            if frame == FIXED:
+                return Vector(comps)
+            return Vector(list(matmul(self.rotation(frame), sp.Matrix(comps))))
+        return self._memo(("offset", name, order), build)
+
+    def _components(self, name: str, order: int):
+        """The components (in the frame's axes) of the position's *order*-th derivative."""
+        self._offset(name, order)
+        return self._cache[("comps", name, order)]
 
     def _moves(self, expr) -> bool:
-        return any(s in self._next or s == self.t for s in sp.sympify(expr).free_symbols)
+        return any(s in self._next or s == self.t for s in as_basic(expr).free_symbols)
 
     def pos(self, name: str) -> Vector:
         """Position of point *name* from O, in N."""
@@ -158,7 +167,7 @@ class Kinematics:
 
         def build():
             origin = self.points[name][0]
-            r = self._offset(name)[0]
+            r = self._offset(name)
             return r if origin == ORIGIN else self.pos(origin) + r
         return self._memo(("pos", name), build)
 
@@ -169,7 +178,7 @@ class Kinematics:
 
         def build():
             origin, frame, _ = self.points[name]
-            r, rd, _ = self._offset(name)
+            r, rd = self._offset(name), self._offset(name, 1)
             parts = [] if origin == ORIGIN else [self.vel(origin)]
             if rd is not None:
                 parts.append(rd)
@@ -185,7 +194,8 @@ class Kinematics:
 
         def build():
             origin, frame, _ = self.points[name]
-            r, rd, rdd = self._offset(name)
+            r, rd = self._offset(name), self._offset(name, 1)
+            rdd = self._offset(name, 2) if rd is not None else None
             parts = [] if origin == ORIGIN else [self.acc(origin)]
             if rd is not None:
                 parts.append(rdd)

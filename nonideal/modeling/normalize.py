@@ -16,7 +16,7 @@ from .contacts import Contact, Newton, Plastic, normalize_friction
 from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
-from .normalize_kinematics import (norm_constraints, normalize_kinematics, quaternion_initial_problems,
+from .normalize_kinematics import (norm_constraints, normalize_kinematics, normalize_quaternion_initial,
                                    resolve_body)
 from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
 from .speeds import finish_speeds_and_outputs, normalize_speeds
@@ -541,8 +541,9 @@ class Normalizer:
                 self.problems.extend(bad)
                 continue
             out[key] = e
+        out, problems = normalize_quaternion_initial(self.kinematics, out, values)
         self.set("initial", out)
-        self.problems += quaternion_initial_problems(self.kinematics, out, values)
+        self.problems += problems
         if m.independent is not None:
             ind = tuple(m.independent)
             for name in ind:

@@ -20,11 +20,12 @@ from .points import Point
 from .symbols import is_identifier, t
 from .values import identically_zero
 
-__all__ = ["normalize_kinematics", "resolve_body", "norm_constraints", "quaternion_initial_problems",
+__all__ = ["normalize_kinematics", "resolve_body", "norm_constraints", "normalize_quaternion_initial",
            "NORM_TOLERANCE"]
 
-#: Euler parameters given at t0 whose norm differs from 1 by more than this are refused
-NORM_TOLERANCE = 1e-6
+#: Euler parameters given at t0 whose norm differs from 1 by more than this are refused (closer,
+#: they are divided by their norm)
+NORM_TOLERANCE = 1e-3
 
 
 def normalize_kinematics(norm) -> Kinematics:
@@ -189,7 +190,9 @@ def _frame(norm, f: Frame, q: set):
         return None
     R = sp.Matrix(rows)
     off = R.T * R - sp.eye(3)
-    if not all(identically_zero(x) for x in off) or not identically_zero(R.det() - 1):
+    det = (R[0, 0] * (R[1, 1] * R[2, 2] - R[1, 2] * R[2, 1]) - R[0, 1] * (R[1, 0] * R[2, 2] - R[1, 2] * R[2, 0])
+           + R[0, 2] * (R[1, 0] * R[2, 1] - R[1, 1] * R[2, 0]))   # no symbolic elimination
+    if not all(identically_zero(x) for x in off) or not identically_zero(det - 1):
         problems.append(f"{where}: matrix is not a rotation (R^T R = I and det R = 1 must hold "
                         "identically); check its entries, or use rotation = \"body ...\" with angles")
         return None
@@ -244,9 +247,12 @@ def norm_constraints(kin: Kinematics | None, constraints: tuple, problems: list[
     return tuple(out)
 
 
-def quaternion_initial_problems(kin: Kinematics | None, initial: dict, values: dict) -> list[str]:
-    """Euler parameters given at t0 must have unit norm (to :data:`NORM_TOLERANCE`)."""
-    out = []
+def normalize_quaternion_initial(kin: Kinematics | None, initial: dict, values: dict) -> tuple[dict, list[str]]:
+    """Euler parameters given at t0, divided by their norm when it is within
+    :data:`NORM_TOLERANCE` of one (values written with a few decimals, 0.7071); farther from
+    one they are refused with the normalized values suggested.  Returns the initial values
+    and the problems."""
+    out, problems = dict(initial), []
     for frame, e in (kin.quaternions() if kin is not None else {}).items():
         names = [x.name for x in e]
         if not all(n in initial for n in names):
@@ -259,9 +265,11 @@ def quaternion_initial_problems(kin: Kinematics | None, initial: dict, values: d
         if abs(size - 1.0) > NORM_TOLERANCE:
             hint = ", ".join(f"{n} = {v / size:.12g}" for n, v in zip(names, vals)) if size > 0 else \
                 f"{names[0]} = 1, the others 0"
-            out.append(f"[initial] {', '.join(names)}: the Euler parameters of frame '{frame}' have norm "
-                       f"{size:.12g}, not 1; give a unit quaternion, e.g. {hint}")
-    return out
+            problems.append(f"[initial] {', '.join(names)}: the Euler parameters of frame '{frame}' have "
+                            f"norm {size:.12g}, not 1; give a unit quaternion, e.g. {hint}")
+        elif size != 1.0:
+            out.update({n: sp.Float(v / size, 17) for n, v in zip(names, vals)})
+    return out, problems
 
 
 def describe(kin: Kinematics | None) -> list[str]:

@@ -23,7 +23,7 @@ from collections.abc import Sequence
 
 import sympy as sp
 
-__all__ = ["Vector", "Unknown", "dot", "cross", "norm", "VECTOR_FUNCTIONS", "AXES", "zero"]
+__all__ = ["Vector", "Unknown", "as_basic", "dot", "cross", "norm", "VECTOR_FUNCTIONS", "AXES", "zero"]
 
 #: the unit vectors of a frame by attribute: B.x, B.y, B.z
 AXES = {"x": 0, "y": 1, "z": 2}
@@ -53,7 +53,7 @@ class Vector:
     __slots__ = ("components",)
 
     def __init__(self, components: Sequence):
-        comps = tuple(sp.sympify(c) for c in components)
+        comps = tuple(as_basic(c) for c in components)
         if len(comps) != 3:
             raise ValueError(f"a vector has 3 components, got {len(comps)}")
         self.components = comps
@@ -91,6 +91,18 @@ class Vector:
     @property
     def free_symbols(self) -> set:
         return set().union(*(c.free_symbols for c in self.components))
+
+
+def as_basic(c) -> sp.Basic:
+    """A SymPy object of an internal value (a SymPy expression or a Python number; never text:
+    no ``sympify`` runs here)."""
+    if isinstance(c, sp.Basic):
+        return c
+    if isinstance(c, int):
+        return sp.Integer(c)
+    if isinstance(c, float):
+        return sp.Float(c)
+    raise TypeError(f"a vector component must be a SymPy expression or a number, got {type(c).__name__}")
 
 
 def zero() -> Vector:

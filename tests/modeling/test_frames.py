@@ -196,3 +196,63 @@ def test_reserved_and_duplicate_names():
 def test_quaternion_must_name_coordinates():
     msg = _problems(quaternion=["a", "b", "c", "1"])
     assert "four different coordinates" in msg
+
+
+# ---------------------------------------------------------------- model files
+
+def _file(**tables):
+    data = {"coordinates": {"q": ["a", "b"]}, "parameters": {"m": 1.0, "l": 0.5}}
+    data.update(tables)
+    return data
+
+
+def _file_problems(data):
+    from nonideal.modeling.modelfile import model_from_dict
+
+    with pytest.raises(ModelError) as info:
+        model_from_dict(data, "m.toml")
+    return str(info.value)
+
+
+def test_model_file_frames_points_and_bodies():
+    from nonideal.modeling.modelfile import model_from_dict
+
+    model = model_from_dict(_file(
+        frames=[{"name": "B", "rotation": "space ZX", "angles": ["a", "b"]}],
+        points=[{"name": "G", "frame": "B", "position": ["0", "0", "l"]},
+                {"name": "P", "from": "G", "position": ["l", 0, 0]}],
+        bodies=[{"type": "rigid", "name": "body", "mass": "m", "frame": "B", "center": "G",
+                 "inertia": [["1", 0, 0], [0, "1", 0], [0, 0, "2"]]},
+                {"type": "particle", "name": "bob", "mass": "m", "point": "P"}],
+        energy={"potential": "m*9.81*dot(pos(P), N.z)"}), "m.toml")
+    body, bob = model.bodies
+    assert body.frame == "B" and body.omega is not None and len(body.position) == 3
+    assert bob.position == tuple(model.kinematics.pos("P"))
+
+
+@pytest.mark.parametrize("tables, fragment", [
+    ({"frames": [{"name": "B", "rotation": "body ZQ", "angles": ["a", "b"]}]},
+     "[[frames]] 'B': rotation 'body ZQ': unknown axis 'Q'"),
+    ({"frames": [{"name": "B", "rotation": "body Z", "angles": ["a"], "parnt": "N"}]},
+     "unknown key 'parnt' (did you mean 'parent'?)"),
+    ({"frames": [{"name": "A", "parent": "C", "axis": [0, 0, 1], "angle": "a"},
+                 {"name": "C", "parent": "A", "axis": [1, 0, 0], "angle": "b"}]},
+     "its parent chain A -> C -> A is a loop"),
+    ({"points": [{"name": "P", "position": ["a", 0, 0], "from": "Q"},
+                 {"name": "Q", "position": ["b", 0, 0], "from": "P"}]},
+     "its from chain P -> Q -> P is a loop"),
+    ({"bodies": [{"type": "rigid", "name": "b", "mass": "m", "frame": "B", "center": "G",
+                  "inertia": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}]},
+     "frame 'B' is not declared"),
+    ({"bodies": [{"type": "rigid", "name": "b", "mass": "m", "frame": "B", "position": [0, 0, 0],
+                  "inertia": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}]},
+     "give either position and rotation or center and frame, not both"),
+    ({"bodies": [{"type": "particle", "name": "b", "mass": "m", "point": "Q"}]},
+     "point 'Q' is not declared"),
+    ({"points": [{"name": "P", "frame": "N"}]}, "missing position"),
+    ({"energy": {"kinetic": "dot(vel(P), vel(P))"}}, "unknown point 'P'; the points are O"),
+])
+def test_model_file_problems_name_the_key(tables, fragment):
+    msg = _file_problems(_file(**tables))
+    assert fragment in msg, msg
+    assert msg.startswith("m.toml: ")
