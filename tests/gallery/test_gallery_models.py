@@ -104,5 +104,9 @@ def test_every_form_agrees_with_lagrange1(name, contact_state, gallery_model):
     for form, reason in skipped.items():
         assert any(f in reason for f in FORMS if f != form), (name, form, reason)
     # the quasi-velocity forms apply wherever the constraints are linear in the velocities
+    # (Boltzmann-Hamel and Poincare-Chetaev need the speed matrix inverted explicitly: a large
+    # system -- the bicycle -- is refused with kane named instead)
     if _linear_in_velocities(model):
-        assert {"kane", "boltzmann_hamel", "poincare_chetaev", "voronets"} <= set(checked), (name, skipped)
+        expected = {"kane", "voronets"} | {f for f in ("boltzmann_hamel", "poincare_chetaev")
+                                           if "too large" not in skipped.get(f, "")}
+        assert expected <= set(checked), (name, skipped)
