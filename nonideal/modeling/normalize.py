@@ -14,10 +14,10 @@ import sympy as sp
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contacts import Contact, Newton, Plastic, normalize_friction
 from ..errors import ExpressionError, did_you_mean
+from .shapes.reading import shape_contact
 from .symbols import is_identifier
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
-from .normalize_kinematics import (norm_constraints, normalize_kinematics, normalize_quaternion_initial,
-                                   resolve_body)
+from .normalize_kinematics import normalize_kinematics, normalize_quaternion_initial, resolve_body
 from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
 from .speeds import finish_speeds_and_outputs, normalize_speeds
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
@@ -156,7 +156,8 @@ class Normalizer:
             params[name] = p
         values, problems = resolve_parameters({n: p.value for n, p in params.items()})
         self.problems += problems
-        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description)
+        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description,
+                                             p.value if isinstance(p.value, str) else p.definition)
                                 for n, p in params.items() if n in values})
 
     # -- energy
@@ -293,7 +294,7 @@ class Normalizer:
     def constraints(self) -> None:
         m = self.m
         out, names = [], set()
-        for c in norm_constraints(self.kinematics, m.constraints, self.problems):
+        for c in m.constraints:
             where = f"constraint '{c.name}'"
             if not isinstance(c.name, str) or not is_identifier(c.name):
                 self.problems.append(f"{where}: name must be an identifier (letters, digits, _)")
@@ -447,20 +448,20 @@ class Normalizer:
                 self.problems.append(f"{where}: name already used by a constraint or contact")
                 continue
             names.add(ct.name)
+            if ct.geometry is None and (ct.shape is not None or ct.body is not None or ct.gap is None):
+                ct = shape_contact(ct, where, m, lambda v, w: self.expr(v, w, 0), self.problems)
+                if ct is None:
+                    continue
             gap = self.smooth(self.expr(ct.gap, f"{where}: gap", 2), f"{where}: gap")
             if gap is None:
                 continue
             if derivative_order(gap, m.coordinates) > 0:
-                self.problems.append(
-                    f"{where}: the gap must be a function of the coordinates and time only "
-                    "(it contains velocities)"
-                )
+                self.problems.append(f"{where}: the gap must be a function of the coordinates and "
+                                     "time only (it contains velocities)")
                 continue
             if identically_zero(gap) or not (gap.free_symbols & set(m.q)):
-                self.problems.append(
-                    f"{where}: the gap does not depend on the coordinates, so no normal force "
-                    "can be identified; write the normal distance, e.g. gap = \"y\""
-                )
+                self.problems.append(f"{where}: the gap does not depend on the coordinates, so no normal "
+                                     "force can be identified; write the normal distance, e.g. gap = \"y\"")
                 continue
             slips = []
             if not 1 <= len(ct.slip) <= 2:
@@ -480,10 +481,8 @@ class Normalizer:
                     )
                     continue
                 if not (e.free_symbols & set(m.qd)):
-                    self.problems.append(
-                        f"{where}: slip[{i}] = {e} contains no velocity; it must be the "
-                        "tangential velocity of the contact point"
-                    )
+                    self.problems.append(f"{where}: slip[{i}] = {e} contains no velocity; it must be "
+                                         "the tangential velocity of the contact point")
                     continue
                 slips.append(e)
             if len(slips) != len(ct.slip):
@@ -498,7 +497,8 @@ class Normalizer:
                 continue
             if friction is None:
                 continue
-            out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral)))
+            out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral),
+                               ct.body, ct.shape, ct.surface, ct.geometry))
         self.set("contacts", tuple(out))
         # the multipliers are printed as lambda_<constraint>: a parameter or coordinate of that
         # name would read like a multiplier in every equation
