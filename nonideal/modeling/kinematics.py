@@ -134,7 +134,7 @@ class Kinematics:
 
     def unit(self, name: str, axis: int) -> Vector:
         """The unit vector ``name.x`` (axis 0), ``.y`` (1), ``.z`` (2) in N components."""
-        return Vector(list(self.rotation(name)[:, axis]))
+        return self._memo(("unit", name, axis), lambda: Vector(list(self.rotation(name)[:, axis])))
 
     # ---------------------------------------------------------------- points
     def _offset(self, name: str, order: int = 0):
