@@ -183,25 +183,48 @@ class Contact:
     ----------
     name : str
     gap : expression in the coordinates and time
-        ``>= 0``; the normal distance (its multiplier is the normal force).
+        ``>= 0``; the normal distance (its multiplier is the normal force).  Not given for a
+        contact from geometry (``body`` and ``shape``).
     slip : sequence of 1 or 2 expressions
-        Tangential slip velocities, linear in the velocities.
+        Tangential slip velocities, linear in the velocities (not given with ``shape``).
     friction : Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb
         ``Coulomb(math.inf)`` (or ``Coulomb("inf")``) is read as :class:`IdealRolling`.
     impact : Plastic or Newton
     bilateral : bool
         The gap is held at zero by a two-sided guide (no separation; friction uses ``|N|``).
+    body : str, optional
+        A contact from geometry: the name of the rigid body carrying ``shape``.
+    shape : Shape or mapping, optional
+        :class:`~nonideal.modeling.shapes.Sphere`, ``Ellipsoid``, ``Paraboloid``, ``Disk``,
+        ``Point`` or a mapping as in a model file (``{"type": "sphere", "radius": "r"}``); the
+        library derives the gap and the two slip components
+        (:func:`~nonideal.modeling.shapes.contact_geometry`).
+    surface : Plane or mapping, optional
+        The plane touched (default: z = 0 of N, normal +z).
+
+    After normalization a contact from geometry carries ``geometry``
+    (:class:`~nonideal.modeling.shapes.ContactGeometry`: normal, support point, angular
+    velocities) besides the derived ``gap`` and ``slip``.
+
+    Examples
+    --------
+    >>> Contact("floor", body="ball", shape={"type": "sphere", "radius": "r"}, friction=Coulomb("mu")).slip
+    ()
     """
 
     name: str
-    gap: Any
-    slip: tuple[Any, ...]
+    gap: Any = None
+    slip: tuple[Any, ...] = ()
     friction: Any = field(default_factory=lambda: Coulomb(0))
     impact: Any = field(default_factory=Plastic)
     bilateral: bool = False
+    body: str | None = None
+    shape: Any = None
+    surface: Any = None
+    geometry: Any = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
-        slip = self.slip
+        slip = () if self.slip is None else self.slip
         if isinstance(slip, (str, int, float)) or not hasattr(slip, "__iter__"):
             slip = (slip,)
         object.__setattr__(self, "slip", tuple(slip))

@@ -59,7 +59,7 @@ CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral"
                    "losses", "root", "cost", "description"}
 CONTROL_KEYS = {"name", "direction", "weight", "description"}
 CONTACT_KEYS = {"name", "gap", "slip", "mu", "mu_static", "friction", "eps", "restitution",
-                "bilateral", "description"}
+                "bilateral", "description", "body", "shape", "surface"}
 BODY_KEYS = {
     "particle": {"type", "name", "mass", "position", "point"},
     "planar": {"type", "name", "mass", "inertia", "position", "angle"},
@@ -291,13 +291,33 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     for k, c in enumerate(_array_of_tables(data, "contacts", problems)):
         where = f"[[contacts]] #{k + 1}" + (f" '{c.get('name')}'" if "name" in c else "")
         problems += unknown_keys(c, CONTACT_KEYS, where)
-        missing = [key for key in ("name", "gap", "slip") if key not in c]
-        if missing:
-            problems.append(f"{where}: missing {', '.join(missing)} (a contact needs name, "
-                            "gap = \"...\" (>= 0) and slip = [\"...\"])")
+        geometric = any(key in c for key in ("body", "shape", "surface"))
+        needed = ("name", "body", "shape") if geometric else ("name", "gap", "slip")
+        missing = [key for key in needed if key not in c]
+        if geometric and ("gap" in c or "slip" in c):
+            problems.append(f"{where}: give either gap and slip or body and shape (a contact from "
+                            "geometry: the library derives the gap and slip), not both")
             continue
-        ok = check.name(c, where) & check.expr(c, "gap", where)
-        ok &= check.expr_list(c, "slip", where, (1, 2), allow_scalar=True)
+        if missing:
+            problems.append(f"{where}: missing {', '.join(missing)} (a contact needs name and "
+                            + ("body = \"...\" (a rigid body) and shape = {type = \"sphere\", "
+                               "radius = \"r\"} (or another shape)" if geometric else
+                               "gap = \"...\" (>= 0) and slip = [\"...\"], or body and shape)"))
+            continue
+        ok = check.name(c, where)
+        if geometric:
+            for key in ("shape", "surface"):
+                if key in c and not isinstance(c[key], dict):
+                    problems.append(f"{where}: {key} must be an inline table such as "
+                                    + ("{type = \"sphere\", radius = \"r\"}" if key == "shape"
+                                       else "{type = \"plane\", normal = [0, 0, 1]}"))
+                    ok = False
+            if not isinstance(c["body"], str):
+                problems.append(f"{where}: body must be the name of a rigid body in quotes")
+                ok = False
+        else:
+            ok &= check.expr(c, "gap", where)
+            ok &= check.expr_list(c, "slip", where, (1, 2), allow_scalar=True)
         for key in ("mu", "mu_static"):
             if key in c and not is_infinite(c[key]):  # mu = "inf" (or inf): ideal rolling
                 ok &= check.expr(c, key, where)
@@ -330,6 +350,10 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
         if not ok:
             continue
         impact = Plastic() if not e else Newton(e)
+        if geometric:
+            contacts.append(Contact(c["name"], friction=friction, impact=impact, bilateral=bilateral,
+                                    body=c["body"], shape=c["shape"], surface=c.get("surface")))
+            continue
         slip = c["slip"]
         contacts.append(Contact(c["name"], c["gap"], tuple(slip) if isinstance(slip, list) else (slip,),
                                 friction, impact, bilateral))

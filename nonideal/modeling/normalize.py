@@ -14,6 +14,7 @@ import sympy as sp
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contacts import Contact, Newton, Plastic, normalize_friction
 from ..errors import ExpressionError, did_you_mean
+from .shapes.reading import shape_contact
 from .symbols import is_identifier
 
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
@@ -155,7 +156,8 @@ class Normalizer:
             params[name] = p
         values, problems = resolve_parameters({n: p.value for n, p in params.items()})
         self.problems += problems
-        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description)
+        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description,
+                                             p.value if isinstance(p.value, str) else p.definition)
                                 for n, p in params.items() if n in values})
 
     # -- energy
@@ -446,20 +448,20 @@ class Normalizer:
                 self.problems.append(f"{where}: name already used by a constraint or contact")
                 continue
             names.add(ct.name)
+            if ct.geometry is None and (ct.shape is not None or ct.body is not None or ct.gap is None):
+                ct = shape_contact(ct, where, m, lambda v, w: self.expr(v, w, 0), self.problems)
+                if ct is None:
+                    continue
             gap = self.smooth(self.expr(ct.gap, f"{where}: gap", 2), f"{where}: gap")
             if gap is None:
                 continue
             if derivative_order(gap, m.coordinates) > 0:
-                self.problems.append(
-                    f"{where}: the gap must be a function of the coordinates and time only "
-                    "(it contains velocities)"
-                )
+                self.problems.append(f"{where}: the gap must be a function of the coordinates and "
+                                     "time only (it contains velocities)")
                 continue
             if identically_zero(gap) or not (gap.free_symbols & set(m.q)):
-                self.problems.append(
-                    f"{where}: the gap does not depend on the coordinates, so no normal force "
-                    "can be identified; write the normal distance, e.g. gap = \"y\""
-                )
+                self.problems.append(f"{where}: the gap does not depend on the coordinates, so no normal "
+                                     "force can be identified; write the normal distance, e.g. gap = \"y\"")
                 continue
             slips = []
             if not 1 <= len(ct.slip) <= 2:
@@ -479,10 +481,8 @@ class Normalizer:
                     )
                     continue
                 if not (e.free_symbols & set(m.qd)):
-                    self.problems.append(
-                        f"{where}: slip[{i}] = {e} contains no velocity; it must be the "
-                        "tangential velocity of the contact point"
-                    )
+                    self.problems.append(f"{where}: slip[{i}] = {e} contains no velocity; it must be "
+                                         "the tangential velocity of the contact point")
                     continue
                 slips.append(e)
             if len(slips) != len(ct.slip):
@@ -497,7 +497,8 @@ class Normalizer:
                 continue
             if friction is None:
                 continue
-            out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral)))
+            out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral),
+                               ct.body, ct.shape, ct.surface, ct.geometry))
         self.set("contacts", tuple(out))
         # the multipliers are printed as lambda_<constraint>: a parameter or coordinate of that
         # name would read like a multiplier in every equation

