@@ -205,6 +205,18 @@ def _vector_output(norm, value, names, where):
         return None
 
 
+def read_speeds_and_outputs(data: dict, check, problems: list[str]) -> tuple[dict, dict]:
+    """The ``[speeds]`` and ``[outputs]`` tables of a model file (name -> expression text)."""
+    out: tuple[dict, dict] = ({}, {})
+    for key, store in zip(("speeds", "outputs"), out):
+        section = data.get(key, {})
+        if not isinstance(section, dict):
+            problems.append(f"[{key}]: must be a table name = \"expression\"")
+            continue
+        store.update({k: v for k, v in section.items() if check.expr(section, k, f"[{key}] {k}")})
+    return out
+
+
 def finish_speeds_and_outputs(norm) -> None:
     """After the other sections: the outputs parsed, the speed set checked as a whole."""
     normalize_outputs(norm)
