@@ -128,10 +128,10 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
         ax.set_ylabel(rate)
         ax.legend(loc="best", fontsize=8, ncol=min(4, len(names)))
         k += 2
-    for k, (label, series) in enumerate(extra, start=k):   # the model's speeds, its outputs
+    for j, (label, series) in enumerate(extra):   # the model's speeds, its outputs
         for name, values in series.items():
-            axes[k].plot(t, values, label=name)
-        axes[k].set_ylabel(f"{label}\n(model units)"), axes[k].legend(loc="best", fontsize=8, ncol=4)
+            axes[k + j].plot(t, values, label=name)
+        axes[k + j].set_ylabel(f"{label}\n(model units)"), axes[k + j].legend(loc="best", fontsize=8, ncol=4)
     k += len(extra)
     ax = axes[k]
     for name, values in traj.multipliers.items():

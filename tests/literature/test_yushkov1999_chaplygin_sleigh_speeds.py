@@ -84,3 +84,10 @@ def test_evaluate_json_speeds_and_rates(tmp_path):
 
 def test_run_is_ok():
     assert gallery.run("chaplygin-sleigh-speeds", verbose=False)["ok"]
+
+
+def test_plot_has_the_speed_and_output_panels(tmp_path):
+    png = tmp_path / "sl.png"
+    r = run_cli("simulate", str(gallery.model_path("chaplygin-sleigh-speeds")), "--t-end", "1", "--plot", png)
+    assert r.returncode == 0, r.stderr
+    assert png.stat().st_size > 10000
