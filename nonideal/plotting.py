@@ -96,8 +96,8 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
     """Write a PNG: the coordinates and velocities (lengths, angles and coordinates with units
     of their own on separate axes, with the units the model declares in ``[units]``, rad for
     angles, "model units" where nothing is declared -- the library does not convert units), the
-    multipliers and contact forces (named: normal, friction along each slip direction), the
-    energy terms, the energy balance residual in its own panel, the control forces of
+    speeds and outputs (a panel each), the multipliers and contact forces (named: normal,
+    friction along each slip direction), the energy terms, the energy balance residual in its own panel, the control forces of
     servo-constraints with their work, and the contact modes.
 
     Event times are marked with vertical lines; contact modes (when there are contacts) are
@@ -108,7 +108,8 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
     has_contacts = bool(traj.contacts)
     kinds, units = _groups(traj, model)
     controls = getattr(traj, "controls", {}) or {}
-    panels = 2 * len(kinds) + 3 + (1 if has_contacts else 0) + (1 if controls else 0)
+    extra = [(lb, s) for lb in ("speeds", "outputs") if (s := getattr(traj, lb, None))]  # a panel each
+    panels = 2 * len(kinds) + 3 + (1 if has_contacts else 0) + (1 if controls else 0) + len(extra)
     fig, axes = plt.subplots(panels, 1, figsize=(8, 2.1 * panels), sharex=True)
     t = traj.t
     index = {c: i for i, c in enumerate(traj.coordinates)}
@@ -127,6 +128,11 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
         ax.set_ylabel(rate)
         ax.legend(loc="best", fontsize=8, ncol=min(4, len(names)))
         k += 2
+    for j, (label, series) in enumerate(extra):   # the model's speeds, its outputs
+        for name, values in series.items():
+            axes[k + j].plot(t, values, label=name)
+        axes[k + j].set_ylabel(f"{label}\n(model units)"), axes[k + j].legend(loc="best", fontsize=8, ncol=4)
+    k += len(extra)
     ax = axes[k]
     for name, values in traj.multipliers.items():
         ax.plot(t, values, label=f"multiplier {name}")

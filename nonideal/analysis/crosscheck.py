@@ -32,6 +32,7 @@ class CrossCheck:
     accelerations: dict[str, float] = field(default_factory=dict)
     multipliers: dict[str, float] = field(default_factory=dict)
     off_chart: dict[str, int] = field(default_factory=dict)  # states no chart of lagrange2 covers
+    skipped: dict[str, str] = field(default_factory=dict)    # forms that do not apply, and why
 
     def worst(self) -> float:
         return max(list(self.accelerations.values()) + list(self.multipliers.values()) + [0.0])
@@ -81,11 +82,15 @@ def compare_forms(model: Model, forms=None, count: int = 20, seed: int = 0,
     Returns
     -------
     CrossCheck
+        ``skipped[form]``: when *forms* is not given, the forms that do not apply to the model
+        (e.g. ``chaplygin`` on a system that is not a Chaplygin system), each with its reason
+        (a form asked for by name raises instead).
         ``accelerations[form]`` and ``multipliers[form]``: max over the states of
         ``|x_form - x_lagrange1|_inf / |x_lagrange1|_inf``.  Multipliers are compared for the
         constraints a form keeps in its equations (the others it recovers from Lagrange I's
         residual, which would make the comparison empty).
     """
+    requested = forms is not None
     forms = list(forms or (list(FORMS) + ["gauss"]))
     model = extended(model)  # third-order constraints: the forces are part of the state
     kernel = kernel_of(model)
@@ -118,11 +123,18 @@ def compare_forms(model: Model, forms=None, count: int = 20, seed: int = 0,
         except np.linalg.LinAlgError:   # a singular M (massless coordinates): no such scale
             accel_scale = 0.0
         for f, s in solvers.items():
+            if f in report.skipped:
+                continue
             try:
                 sol = s.solve(t, q, qd, mode)
-            except FormNotApplicable:
-                if s.charts is None:
+            except FormNotApplicable as exc:
+                if s.charts is None and requested:
                     raise
+                if s.charts is None:   # all forms asked for: the ones outside their domain say why
+                    report.skipped[f] = str(exc)
+                    report.accelerations.pop(f, None)
+                    report.multipliers.pop(f, None)
+                    continue
                 report.off_chart[f] = report.off_chart.get(f, 0) + 1  # no chart derivable here
                 continue
             report.accelerations[f] = max(report.accelerations[f], _rel(sol.qdd, r.qdd, accel_scale))

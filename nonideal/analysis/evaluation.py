@@ -54,6 +54,9 @@ class Evaluation:
     contacts: dict[str, dict[str, Any]]
     split_available: bool
     indeterminate: dict[str, Any] = field(default_factory=dict)
+    speeds: dict[str, float] = field(default_factory=dict)
+    speeds_dot: dict[str, float] = field(default_factory=dict)
+    outputs: dict[str, float] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON structure of ``evaluate --json`` (keys fixed; more may be added)."""
@@ -69,6 +72,9 @@ class Evaluation:
             "contacts": self.contacts,
             "mode": self.mode,
             "indeterminate": self.indeterminate,
+            "speeds": dict(self.speeds),
+            "speeds_dot": dict(self.speeds_dot),
+            "outputs": dict(self.outputs),
         }
 
     def reaction_total(self) -> dict[str, list[float]]:
@@ -93,6 +99,13 @@ class Evaluation:
             lines.append(f"  {n:<{width}} = {number(self.q[i], sq, 10, True)}   "
                          f"{n}' = {number(self.qd[i], sv, 10, True)}   "
                          f"{n}'' = {number(self.qdd[i], sa, 10, True)}")
+        if self.speeds:
+            width_u = max(len(n) for n in self.speeds) + 2
+            for n, v in self.speeds.items():
+                lines.append(f"  {n:<{width_u}} = {number(v, None, 10, True)}   "
+                             f"{n}' = {number(self.speeds_dot[n], None, 10, True)}   (speed)")
+        for n, v in self.outputs.items():
+            lines.append(f"  {n} = {number(v, None, 10, True)}   (output)")
         for name, value in self.multipliers.items():
             r = self.reactions[name]
             if name in self.contacts:
@@ -143,7 +156,7 @@ def parse_state(model: Model, text: str | None) -> dict[str, float]:
     if not text:
         return {}
     out = {}
-    allowed = set(model.coordinates) | {c + "'" for c in model.coordinates}
+    allowed = set(model.coordinates) | {c + "'" for c in model.coordinates} | set(model.speeds)
     import sympy as sp
     names = {n: sp.Symbol(n) for n in model.parameters}
     values = {sp.Symbol(n): p.value for n, p in model.parameters.items()}
@@ -181,11 +194,14 @@ def _complete_at(kernel, model: Model, at, params, t):
             raise
         first_error = exc
     coords = set(model.coordinates)
-    velocities = [k for k in init if k.endswith("'") and k not in at]
+
+    def velocity_like(k):   # a velocity or a speed
+        return k.endswith("'") or k in model.speeds
+    velocities = [k for k in init if velocity_like(k) and k not in at]
     for drop_coords in (False, True):
         base, guess = dict(at), {}
         for k, v in init.items():
-            if k in at or k.endswith("'"):
+            if k in at or velocity_like(k):
                 continue
             if drop_coords and any(c in coords for c in at):
                 guess[k] = v
@@ -268,10 +284,11 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     require_mapping(parameters, "evaluate", "parameters", "{'m': 2.0}")
     require_form(form, "evaluate", [*FORMS, "gauss"])
     t = real_number(t, "evaluate", "t")
-    allowed = set(model.coordinates) | {c + "'" for c in model.coordinates}
+    allowed = set(model.coordinates) | {c + "'" for c in model.coordinates} | set(model.speeds)
     bad = [k for k in (at or {}) if k not in allowed]
     if bad:
-        raise ModelError([f"at: '{k}' is not a coordinate or velocity{did_you_mean(k, allowed)}"
+        raise ModelError([f"at: '{k}' is not a coordinate or velocity{' or speed' if model.speeds else ''}"
+                          f"{did_you_mean(k, allowed)}"
                           for k in bad], None if model.source == "<api>" else model.source)
     kernel = kernel_of(model)
     params = parameter_vector(model, parameters)
@@ -362,6 +379,17 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
         if split is not None and name in lam_split:
             info["constraint_multiplier"] = float(lam_split[name])
         contacts[name] = info
+    from ..numeric.speeds import output_kernel_of, speed_kernel_of
+
+    params = solver.params
+    speeds, speeds_dot, outputs = {}, {}, {}
+    if model.speeds:
+        sk = speed_kernel_of(model)
+        speeds = dict(zip(sk.names, map(float, sk.values(t, q, qd, params))))
+        speeds_dot = dict(zip(sk.names, map(float, sk.rates(t, q, qd, sol.qdd, params))))
+    if model.outputs:
+        ok = output_kernel_of(model)
+        outputs = dict(zip(ok.names, map(float, ok(t, q, qd, params, multipliers))))
     return Evaluation(model.name, form, t, tuple(model.coordinates), q, qd, sol.qdd, mode.label(),
                       multipliers, reactions, contacts, split is not None,
-                      split_report(solver, mode, sol, t, q, qd))
+                      split_report(solver, mode, sol, t, q, qd), speeds, speeds_dot, outputs)

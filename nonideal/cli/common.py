@@ -22,7 +22,8 @@ __all__ = ["ParserContext", "json_option", "model_argument", "load_spec", "model
 METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 #: the forms of ``nonideal.equations.formalisms.FORMS``, named here so that building the parser
 #: (``--help``) does not import SymPy; tests/cli/test_cli_startup.py checks they agree
-FORM_NAMES = ("lagrange1", "lagrange2", "maggi", "appell", "shulgin", "servo")
+FORM_NAMES = ("lagrange1", "lagrange2", "maggi", "appell", "shulgin", "servo", "kane", "boltzmann_hamel",
+              "poincare_chetaev", "voronets", "chaplygin")
 PLOT_SAMPLES = 601   # samples of a plotted or tabulated (--csv) run when --times is not given
 
 #: the smallest relative tolerance: SciPy's integrators raise a smaller one to 100 machine
@@ -156,7 +157,7 @@ def parse_at(model, text: str | None) -> dict[str, float]:
     from ..errors import ExpressionError
     from ..modeling.expressions import float_value, parse_expression
 
-    allowed = list(model.coordinates) + [c + "'" for c in model.coordinates]
+    allowed = list(model.coordinates) + [c + "'" for c in model.coordinates] + list(model.speeds)
     names = {n: sp.Symbol(n) for n in model.parameters}
     values = {sp.Symbol(n): p.value for n, p in model.parameters.items()}
     out: dict[str, float] = {}
@@ -175,7 +176,7 @@ def parse_at(model, text: str | None) -> dict[str, float]:
         key, _, val = part.partition("=")
         key = key.strip()
         if key not in allowed:
-            problems.append(f"--at: '{key}' is not a coordinate or velocity"
+            problems.append(f"--at: '{key}' is not a coordinate or velocity{' or speed' if model.speeds else ''}"
                             f"{did_you_mean(key, allowed)}; allowed: {', '.join(allowed)}")
             continue
         if key in out:

@@ -121,6 +121,11 @@ def run(args) -> int:
             sq, sv = float(abs(traj.q[:, k]).max()), float(abs(traj.qd[:, k]).max())
             print(f"  {c:>10}(t_end) = {number(traj.q[-1, k], sq, 12, True)}{unit(units['q'][c])}   "
                   f"{c}'(t_end) = {number(traj.qd[-1, k], sv, 12, True)}{unit(units['qdot'][c])}")
+        for label, series in (("speed", traj.speeds), ("output", traj.outputs)):
+            for name, values in series.items():
+                rng = float(abs(values).max()) if len(values) else None
+                print(f"  {name:>10}(t_end) = {number(values[-1], rng, 12, True)}   ({label}; "
+                      f"from {number(values.min(), rng, 8, True)} to {number(values.max(), rng, 8, True)})")
         shown = traj.events if len(traj.events) <= 24 else traj.events[:20]
         for e in shown:
             zeno = (f" (accumulation of impacts, geometric ratio {e['ratio']:.6g}, after "

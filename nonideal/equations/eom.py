@@ -79,6 +79,9 @@ class EquationsOfMotion:
         I: the mass matrix of many bodies is sparse).  Printing visits only those entries
         (reading the n^2 entries of a SymEngine matrix one by one costs ~5 us each); a matrix
         not listed is read entry by entry.
+    speeds : tuple of str
+        The generalized speeds the equations are written in (the quasi-velocity forms), printed
+        as velocities; their values are computed from the state (an auxiliary).
     """
 
     form: str
@@ -103,6 +106,7 @@ class EquationsOfMotion:
     notes: tuple[str, ...] = ()
     eliminated: tuple[str, ...] = ()
     structure_: dict[str, Any] = field(default_factory=dict)
+    speeds: tuple[str, ...] = ()
 
     def columns(self, name: str, i: int) -> range | list[int]:
         """The columns of row *i* of matrix *name* (``"A_"``...) that may be nonzero."""
@@ -208,7 +212,7 @@ class EquationsOfMotion:
             s = sp.Symbol(name)
             return latex_names([s])[s]
 
-        return Printer(self.model.coordinates, self.unknowns, self.multipliers, latex_of)
+        return Printer(self.model.coordinates, self.unknowns, self.multipliers, latex_of, speeds=self.speeds)
 
     @cached_property
     def _sides(self) -> list[tuple[dict, dict]]:

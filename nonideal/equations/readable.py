@@ -96,10 +96,13 @@ class Printer(Typesetting):
         Multiplier names, grouped after the velocity products.
     latex_of : callable str -> str, optional
         LaTeX spelling of a symbol name (``"x''"`` -> ``\\ddot{x}``).
+    speeds : iterable of str, optional
+        Generalized speeds: ordered and grouped like velocities.
     """
 
     def __init__(self, coordinates: Iterable[str], unknowns: Iterable[str] = (),
-                 multipliers: Iterable[str] = (), latex_of: Callable[[str], str] | None = None):
+                 multipliers: Iterable[str] = (), latex_of: Callable[[str], str] | None = None,
+                 speeds: Iterable[str] = ()):
         self.coordinates = list(coordinates)
         self.unknowns = list(unknowns)
         self.multipliers = list(multipliers)
@@ -109,6 +112,8 @@ class Printer(Typesetting):
             self._rank[c] = (3, i)
             self._rank[c + "'"] = (6, i)
             self._rank[c + "''"] = (7, i)
+        for j, u in enumerate(speeds):   # generalized speeds group with the velocities
+            self._rank[u] = (6, len(cindex) + j)
         for j, a in enumerate(self.unknowns):
             self._rank.setdefault(a, (7, len(cindex) + j))
         for j, m in enumerate(self.multipliers):

@@ -244,7 +244,7 @@ class Typesetting:
         body = self._join(terms, latex)
         if number == 1 and not common:
             return body
-        if len(terms) > 1 or terms[0][0]:
+        if len(terms) > 1 or terms[0][0] or not self._grouped(body, latex):   # (one term may be a sum)
             body = (r"\left(" + body + r"\right)") if latex else "(" + body + ")"
         head = self._fmt_mono(common, latex)
         core = (head + (" " if latex else "*") + body) if head else body

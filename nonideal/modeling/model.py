@@ -118,6 +118,13 @@ class Model:
         Uniform gravity vector; adds ``-sum m g . r`` over the bodies to the potential.
     constraints : sequence of Constraint
     contacts : sequence of Contact
+    speeds : mapping name -> expression, optional
+        Generalized speeds (quasi-velocities), each linear in the velocities; together with the
+        derivatives of the holonomic constraints they must determine every velocity.  Their
+        names may be used in every other expression (:mod:`nonideal.modeling.speeds`).
+    outputs : mapping name -> expression, optional
+        Named quantities reported along a simulation (may use the speeds, ``T``, ``V`` and the
+        multipliers ``lambda_<constraint>``).
     controls : sequence of Control, optional
         Controls shared by the servo-constraints declared without ``reaction`` (Béghin 1922:
         r programs, j controls; impossible if r > j, the least-cost controls if r < j).
@@ -164,6 +171,8 @@ class Model:
     controls: tuple[Control, ...] = ()
     frames: tuple[Any, ...] = ()
     points: tuple[Any, ...] = ()
+    speeds: Mapping[str, Any] = field(default_factory=dict)
+    outputs: Mapping[str, Any] = field(default_factory=dict)
 
     # ------------------------------------------------------------------ construction
     def __post_init__(self):
@@ -273,6 +282,8 @@ class Model:
             out.update({s.name + "'": sp.Symbol(s.name + "'") for s in qdd})
         if time:
             out["t"] = t
+        if order >= 1 and self.__dict__.get("_speeds_ready"):
+            out.update(self.speeds)   # a speed name stands for its definition
         return out
 
     def parse(self, text: Any, where: str, order: int = 1) -> sp.Expr:

@@ -37,6 +37,7 @@ from .declarations import Control
 from .frames import FIXED, ORIGIN, Frame
 from .points import Point
 from .model import Constraint, Model, resolve_parameters
+from .speeds import read_speeds_and_outputs
 
 from .filechecks import Checker, control_characters, describe, is_expr, toml_problem, unknown_keys
 
@@ -44,9 +45,8 @@ __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
 
 FORMAT_VERSION = 1
 
-TOP_KEYS = {"model", "parameters", "coordinates", "energy", "forces", "bodies", "gravity", "loads",
-            "constraints", "contacts", "initial", "simulation", "forms", "units", "controls",
-            "frames", "points"}
+TOP_KEYS = {"model", "parameters", "coordinates", "energy", "forces", "bodies", "gravity", "loads", "constraints",
+            "contacts", "initial", "simulation", "forms", "units", "controls", "frames", "points", "speeds", "outputs"}
 SECTION_KEYS = {
     "model": {"name", "format", "description", "source"},
     "coordinates": {"q"},
@@ -492,9 +492,9 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     if "independent" in forms:
         independent = forms["independent"]
         if not isinstance(independent, list) or not all(isinstance(v, str) for v in independent):
-            problems.append(f"[forms] independent: must be a list of coordinate names "
-                            f"(got {describe(independent)})")
+            problems.append(f"[forms] independent: must be a list of coordinate names (got {describe(independent)})")
             independent = None
+    speeds, outputs = read_speeds_and_outputs(data, check, problems)
     gravity = table("gravity").get("vector")
     if gravity is not None and not check.expr_list(table("gravity"), "vector", "[gravity]", (2, 3)):
         gravity = None
@@ -524,6 +524,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 controls=tuple(controls),
                 frames=frames,
                 points=points,
+                speeds=speeds, outputs=outputs,
             )
         except ModelError as exc:
             problems += [p for p in exc.problems if p not in problems]

@@ -15,10 +15,11 @@ from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contact_normalize import normalize_contacts
 from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
-
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
-from .normalize_kinematics import normalize_kinematics, normalize_quaternion_initial, resolve_body
+from .normalize_kinematics import (norm_constraints, normalize_kinematics, normalize_quaternion_initial,
+                                   resolve_body)
 from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
+from .speeds import finish_speeds_and_outputs, normalize_speeds
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
 
 __all__ = ["Normalizer"]
@@ -34,7 +35,6 @@ class Normalizer:
 
     def set(self, name: str, value: Any) -> None:
         object.__setattr__(self.m, name, value)
-
     def smooth(self, e: sp.Expr | None, where: str) -> sp.Expr | None:
         """Expressions that the equations differentiate must be smooth (SymEngine cannot
         differentiate abs/sign/min/max, and the motion would not be defined at the kinks)."""
@@ -76,6 +76,7 @@ class Normalizer:
             return
         self.kinematics = normalize_kinematics(self)
         self.m.__dict__["_kinematics"] = self.kinematics
+        normalize_speeds(self)       # the speed names may be used in every later expression
         self.bodies_and_loads()      # first: momentum(body) may appear in energies and forces
         self.energy_and_forces()
         normalize_controls(self)
@@ -83,6 +84,7 @@ class Normalizer:
         self.contacts()
         self.initial_and_settings()
         self.summarize_unknown()
+        finish_speeds_and_outputs(self)
 
     def summarize_unknown(self) -> None:
         """One line listing every undefined name and where it is used (when there are several)."""
@@ -292,7 +294,7 @@ class Normalizer:
     def constraints(self) -> None:
         m = self.m
         out, names = [], set()
-        for c in m.constraints:
+        for c in norm_constraints(self.kinematics, m.constraints, self.problems):
             where = f"constraint '{c.name}'"
             if not isinstance(c.name, str) or not is_identifier(c.name):
                 self.problems.append(f"{where}: name must be an identifier (letters, digits, _)")
@@ -440,7 +442,7 @@ class Normalizer:
     # -- initial state and settings
     def initial_and_settings(self) -> None:
         m = self.m
-        allowed = set(m.coordinates) | {c + "'" for c in m.coordinates}
+        allowed = set(m.coordinates) | {c + "'" for c in m.coordinates} | set(m.speeds)
         names = {n: sp.Symbol(n) for n in m.parameters}
         values = parameter_values(m.parameters)
         out, given = {}, dict(m.initial)
@@ -451,7 +453,7 @@ class Normalizer:
             where = f"[initial] {key}"
             if key not in allowed:
                 self.problems.append(
-                    f"{where}: not a coordinate or velocity{did_you_mean(str(key), allowed)}"
+                    f"{where}: not a coordinate or velocity{' or speed' * bool(m.speeds)}{did_you_mean(str(key), allowed)}"
                 )
                 continue
             try:

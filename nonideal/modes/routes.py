@@ -45,8 +45,11 @@ SADDLE_POINT = Route("saddle point", saddle_point=True)
 REDUCED_FORM = Route("reduced form", derived=True, repartition=True)
 CHARTS = Route("charts", derived=True, charts=True)
 GAUSS = Route("Gauss", gauss=True)
+#: the quasi-velocity forms: their unknowns are speeds, not coordinates to re-partition
+SPEEDS = Route("quasi-velocity form", derived=True)
 
-_BY_FORM = {"lagrange1": SADDLE_POINT, "lagrange2": CHARTS, "gauss": GAUSS}
+_BY_FORM = {"lagrange1": SADDLE_POINT, "lagrange2": CHARTS, "gauss": GAUSS,
+            "kane": SPEEDS, "boltzmann_hamel": SPEEDS, "poincare_chetaev": SPEEDS}
 
 
 def route_for(form: str) -> Route:

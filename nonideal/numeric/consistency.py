@@ -166,6 +166,9 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     model = kernel.model
     levels = _Levels(kernel, params)
     names = list(model.coordinates)
+    speeds = {k: v for k, v in given.items() if k in model.speeds}
+    if speeds:   # given speeds: turned into velocities once the coordinates are known
+        given = {k: v for k, v in given.items() if k not in speeds}
     rows = levels.rows
     equality = [i for i, r in enumerate(rows) if not r.unilateral and r.kind != "slip"]
     optional = [i for i, r in enumerate(rows) if r.unilateral]
@@ -225,6 +228,14 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
 
     # ---- velocities
     vel_eq = [i for i in equality if levels.has_velocity[i]]
+    if speeds:
+        from .speeds import velocities_from_speeds
+
+        def constraint_rows(v):
+            G, _, vel = levels(t0, q, v)
+            return G[vel_eq], vel[vel_eq]
+        qd, miss_v = velocities_from_speeds(model, speeds, params, t0, q, qd, miss_v,
+                                            constraint_rows if vel_eq else None, _src(model))
     _, qd, _ = _newton(levels, vel_eq, miss_v, t0, q, qd, "vel")
     if miss_v and not _determined(levels, vel_eq, miss_v, t0, q, qd):
         found = False

@@ -66,6 +66,10 @@ class Trajectory:
         controls shared by several programs (``[[controls]]``) each control has its own entry
         (``force`` u_k, ``power``, ``work``, ``programs``) and each program an entry with its
         ``multiplier`` (not a force), ``power``, ``work`` and ``controls``.
+    speeds : dict name -> ndarray (N,)
+        The model's generalized speeds (``[speeds]``) at the samples.
+    outputs : dict name -> ndarray (N,)
+        The model's ``[outputs]`` at the samples.
 
     Notes
     -----
@@ -93,6 +97,8 @@ class Trajectory:
     diagnostics: dict[str, Any]
     contacts: dict[str, dict[str, Any]] = field(default_factory=dict)
     controls: dict[str, dict[str, Any]] = field(default_factory=dict)
+    speeds: dict[str, np.ndarray] = field(default_factory=dict)
+    outputs: dict[str, np.ndarray] = field(default_factory=dict)
 
     # ---------------------------------------------------------------- construction
     @classmethod
@@ -171,9 +177,10 @@ class Trajectory:
         controls = _controls(kernel, mult, qd, kernel.dynamics.views(kernel.dynamics.batch(X)), t, X,
                              integrated) \
             if any(r.reaction_kind == "servo" for r in kernel.rows) else {}  # (no n x n M per sample)
+        speeds, outputs = _speeds_and_outputs(kernel.model, solver.params, t, q, qd, mult)
         return cls(kernel.model.name, tuple(kernel.model.coordinates), t, q, qd, qdd,
                    [s.mode.label() for s in samples], mult, energy, list(events), diag, contacts,
-                   controls)
+                   controls, speeds, outputs)
 
     # ---------------------------------------------------------------- access
     def __len__(self) -> int:
@@ -253,13 +260,15 @@ class Trajectory:
             "controls": {name: {k: (arr(v) if isinstance(v, np.ndarray) else v) for k, v in c.items()}
                          for name, c in self.controls.items()},
             "diagnostics": _jsonable(self.diagnostics),
+            **({"speeds": {k: arr(v) for k, v in self.speeds.items()}} if self.speeds else {}),
+            **({"outputs": {k: arr(v) for k, v in self.outputs.items()}} if self.outputs else {}),
         }
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=1)
 
     def to_csv(self, path) -> None:
-        """One row per sample: t, q, q', q'', multipliers, per contact its normal force
+        """One row per sample: t, q, q', q'', the speeds and outputs, multipliers, per contact its normal force
         ``N_<name>``, friction and slip components (``F_<name>``, ``U_<name>``; suffixed
         ``_1, _2`` for two components), gap and mode, then the energy terms and the mode of
         the whole system."""
@@ -275,7 +284,8 @@ class Trajectory:
             contact_header += [h for h, _ in cols] + ["mode_" + name]
             contact_columns.append(([v for _, v in cols], c["mode"]))
         header = ["t"] + list(self.coordinates) + [c + "'" for c in self.coordinates] \
-            + [c + "''" for c in self.coordinates] + [f"lambda_{k}" for k in self.multipliers] \
+            + [c + "''" for c in self.coordinates] + list(self.speeds) + list(self.outputs) \
+            + [f"lambda_{k}" for k in self.multipliers] \
             + contact_header + list(self.energy) \
             + [f"{k}_{name}" for name, c in self.controls.items()
                for k in _control_columns(c, labels=True)] + ["mode"]
@@ -285,6 +295,8 @@ class Trajectory:
             for k in range(len(self.t)):
                 row = [self.t[k], *self.q[k], *self.qd[k], *self.qdd[k]]
                 row = [f"{x:.17g}" for x in row]
+                row += [f"{v[k]:.17g}" for v in self.speeds.values()]
+                row += [f"{v[k]:.17g}" for v in self.outputs.values()]
                 row += [f"{v[k]:.17g}" for v in self.multipliers.values()]
                 for values, modes in contact_columns:
                     row += [f"{v[k]:.17g}" for v in values] + [modes[k]]
@@ -292,6 +304,27 @@ class Trajectory:
                 for c in self.controls.values():
                     row += [f"{c[key][k]:.17g}" for key in _control_columns(c)]
                 w.writerow(row + [self.modes[k]])
+
+
+def _speeds_and_outputs(model, params, t, q, qd, mult):
+    """The model's speeds and outputs at the samples (empty dicts when it declares none)."""
+    speeds: dict[str, np.ndarray] = {}
+    outputs: dict[str, np.ndarray] = {}
+    if not (model.speeds or model.outputs):
+        return speeds, outputs
+    from ..numeric.speeds import output_kernel_of, speed_kernel_of
+
+    N = len(t)
+    if model.speeds:
+        sk = speed_kernel_of(model)
+        values = np.array([sk.values(t[k], q[k], qd[k], params) for k in range(N)]).reshape(N, len(sk.names))
+        speeds = {name: values[:, j].copy() for j, name in enumerate(sk.names)}
+    if model.outputs:
+        ok = output_kernel_of(model)
+        values = np.array([ok(t[k], q[k], qd[k], params, {n: v[k] for n, v in mult.items()})
+                           for k in range(N)]).reshape(N, len(ok.names))
+        outputs = {name: values[:, j].copy() for j, name in enumerate(ok.names)}
+    return speeds, outputs
 
 
 def _control_columns(c: dict, labels: bool = False) -> list[str]:

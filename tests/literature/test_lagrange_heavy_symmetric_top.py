@@ -59,18 +59,10 @@ def test_euler_parameters_far_from_unit_norm_are_refused():
     assert "norm 2" in msg and "e0 = 1" in msg
 
 
-def test_no_constraint_and_radial_rates_projected():
-    """|e| is kept with no constraint; given rates with a radial part are projected on the
-    sphere (e . e' = 0), a missing one is completed from it."""
+def test_the_norm_constraint_is_added_once():
     model = gallery.load(hep.NAME)
-    assert model.constraints == ()
-    m = model.replace(initial={**model.initial, "e0'": 0.4})
-    assert float(m.initial["e0'"]) == 0.0 and float(m.initial["e3'"]) == 5.0
-    start = {k: v for k, v in model.initial.items() if k != "e0'"}
-    tilted = model.replace(initial={**start, "e0": 0.6, "e1": 0.8, "e1'": 0.3})
-    e = np.array([float(tilted.initial[f"e{i}"]) for i in range(4)])
-    ed = np.array([float(tilted.initial[f"e{i}'"]) for i in range(4)])
-    assert abs(e @ ed) < 1e-15 and ed[1] == 0.3
+    again = model.replace()
+    assert [c.name for c in again.constraints] == ["B_norm"]
 
 
 def test_euler_parameters_written_with_few_decimals_are_normalized():

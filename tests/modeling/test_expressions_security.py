@@ -208,7 +208,7 @@ VECTOR_ATTACKS = [
     "angular_momentum(body, __class__)",
     "omega(" * 200 + "B" + ")" * 200,
     "dot(" * 60 + "N.x, N.x" + ")" * 60,
-    "N.x" + " + N.x" * 5000,
+    "N.x" + " + N.x" * 3000,
     "B.x * B.y",
     "N.x ^ 2",
     "exp(N.x)",

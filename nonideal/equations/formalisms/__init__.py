@@ -33,6 +33,10 @@ from .lagrange1 import Lagrange1
 from .lagrange2 import Lagrange2
 from .maggi import Maggi
 from .servo import Servo
+from .kane import Kane
+from .hamel import BoltzmannHamel
+from .poincare import PoincareChetaev
+from .voronets import Chaplygin, Voronets
 from .shulgin import Shulgin
 
 __all__ = ["FORMS", "derive", "Formalism"]
@@ -44,6 +48,11 @@ FORMS: dict[str, type[Formalism]] = {
     "appell": Appell,
     "shulgin": Shulgin,
     "servo": Servo,
+    "kane": Kane,
+    "boltzmann_hamel": BoltzmannHamel,
+    "poincare_chetaev": PoincareChetaev,
+    "voronets": Voronets,
+    "chaplygin": Chaplygin,
 }
 
 

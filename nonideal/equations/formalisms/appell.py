@@ -32,6 +32,7 @@ import symengine as se
 from ..dynamics import count_ops
 from ..eom import EquationsOfMotion
 from .base import Formalism, project_rows, reduce_velocities, split_rows, transpose_times
+from .quasi import fold_matrix, norm_reducer
 
 __all__ = ["Appell", "reduced_acceleration_energy"]
 
@@ -75,6 +76,8 @@ class Appell(Formalism):
                 A[i, j] = se.diff(grad[i], p[j])
                 A[j, i] = A[i, j]
         Qf = transpose_times(red.V, dyn.Q, n, k)
+        if red.explicit:   # high trigonometric powers that cancel folded (small systems only)
+            A, c, Qf = (fold_matrix(M_, norm_reducer(dyn.model), n) for M_ in (A, c, Qf))
         G, gamma, B = project_rows(kept, red, n)
         coords = dyn.model.coordinates
         notes = ["quasi-accelerations p' = " + ", ".join(coords[j] + "''" for j in red.independent)

@@ -470,7 +470,7 @@ def reduced_model(model: Model, chart: Chart) -> Model:
         name=f"{model.name} [in {', '.join(names)}]",
         coordinates=names,
         parameters=model.parameters,
-        kinetic=S(model.kinetic),
+        kinetic=S(model.kinetic + model.kinematics.regularization(model.bodies)),   # Euler parameters' term
         potential=S(model.potential),
         forces=forces,
         bodies=bodies,
