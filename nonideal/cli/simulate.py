@@ -27,7 +27,8 @@ def add_parser(sub, ctx) -> None:
     s.add_argument("--csv", metavar="OUT", help="write the trajectory as CSV (at --times, else on 601 uniform samples)")
     s.add_argument("--plot", metavar="PNG", help="plot the trajectory, reactions and energy")
     s.add_argument("--animate", metavar="GIF", help="animation of the motion (.gif; .mp4 needs "
-                   "ffmpeg): the bodies drawn from the model's geometry, each contact's mode coloured")
+                   "ffmpeg; .png: the last frame): the bodies drawn from the model's geometry (in "
+                   "3-D with the shapes of contacts from geometry), each contact's mode coloured")
     s.set_defaults(func=run)
 
 
