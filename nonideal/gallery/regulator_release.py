@@ -23,7 +23,18 @@ L(i+1) = dLi/dt - A Li, gives (derived)
     W = [[0, -1/m, 0], [0, n rho0 omega0/(m D), -n^2 omega0 rho0^2 rho0'/(m D^2)], [1/m, 0, 0]],
 
 full rank exactly while rho0' != 0 (M2 != 0) -- the structure of the printed (3.32), whose
-entries are normalized differently.  Optimal stabilization (3.33)-(3.37): the cost
+entries are normalized differently.  With M1 != 0 (derived; the programme is then the implicit
+(3.10), n omega0 rho0 rho0' = M2 + rho0 M1/R, and the model file, whose programmed force is
+explicit in t, covers M1 = 0 only) the same recursion gives W[phi2', L3] =
+(M1 D/R - n^2 omega0 rho0^2 rho0')/(m D^2) and
+
+    det W = (M2 R n rho0 - J2 M1)/(R m^3 D^2),
+
+which vanishes at rho0 = J2 M1/(M2 R n) (0.125 m for M1 = 0.75 N m with the numbers below):
+the paper's "w = rho0^2 rho0' omega0 != 0, so rank W = 3" fails there -- the first
+approximation loses controllability at the instant the programme passes that radius.
+:func:`det_W` gives the formula; the test of this example checks it against the library's
+W(t) at M1 = 0.  Optimal stabilization (3.33)-(3.37): the cost
 int (zeta^2 + rho'^2 + z^2 + u1^2) dt, V = x^T P(t) x with P from the differential Riccati
 equation, u1 = -B^T P x.  The printed (3.35) omits the cross term zeta rho' whose coefficient
 C13 appears in (3.36), and (3.36) has further index and sign misprints; the library integrates
@@ -96,6 +107,14 @@ def closed_forms(t, p=DEFAULTS):
     W[:, 2, 0], W[:, 0, 1], W[:, 1, 1] = 1 / m, -1 / m, n * rho * w / (m * D)
     W[:, 1, 2] = -n ** 2 * w * rho ** 2 * rd / (m * D ** 2)
     return rho, rd, A, W
+
+
+def det_W(rho0, p=DEFAULTS, M1: float = 0.0):
+    """``det W = (M2 R n rho0 - J2 M1)/(R m^3 D^2)`` along the programme (module docstring)."""
+    n = p["J1"] / p["R"] ** 2 + p["J"] / p["r"] ** 2
+    rho0 = np.asarray(rho0, dtype=float)
+    D = n * rho0 ** 2 + p["J2"]
+    return (p["M2"] * p["R"] * n * rho0 - p["J2"] * M1) / (p["R"] * p["m"] ** 3 * D ** 2)
 
 
 def run(verbose: bool = True) -> dict:

@@ -110,3 +110,28 @@ def test_conical_motion_found_and_state_printed_cleanly():
     assert lin.q["th"] == pytest.approx(math.acos(9.81 / 25), rel=1e-9)
     noisy = dataclasses.replace(lin, q={"th": lin.q["th"], "ph": 5.88e-13})
     assert "ph = 0," in noisy.as_text() and "e-13" not in noisy.as_text()
+
+
+def test_family_zero_eigenvalue_treated_alike_when_coupled():
+    """The conical pendulum's azimuth rate ph' is held in a family of steady motions like the
+    top's spin c': both go with their family's zero eigenvalue (ph' couples into th'', so it is
+    held at its first integral, the cyclic momentum: Routh), not one dropped and one kept.  The
+    frequency left is w^2 (1 + 3 cos^2 th) (the conical pendulum's)."""
+    import math
+
+    lin = linearize(spherical_pendulum(), about="steady", at="th=1.1, ph'=5")
+    assert lin.variables == ("th", "th'") and lin.family == ("ph'",)
+    cos = 9.81 / 25
+    expect = 5 * math.sqrt(1 + 3 * cos ** 2)
+    assert sorted(abs(z.imag) for z in lin.eigenvalues) == pytest.approx([expect, expect], rel=1e-9)
+    assert all(abs(z.real) < 1e-9 for z in lin.eigenvalues)
+    top = linearize(sleeping_top.build(), about="steady", at="c'=w")
+    assert top.family == ("c'",) and all(abs(z) > 1e-6 for z in top.eigenvalues)
+    # the same in symbolic parameters
+    sym = linearize(spherical_pendulum(), about="steady", at="th=acos(g/(l*5^2)), ph'=5",
+                    symbolic=["g", "l"])
+    s = sp.Symbol("s")
+    poly = sp.Poly(sym.characteristic_polynomial, s)
+    assert poly.degree() == 2
+    value = poly.all_coeffs()[-1].subs({sp.Symbol("g"): 9.81, sp.Symbol("l"): 1.0})
+    assert float(value) == pytest.approx(expect ** 2, rel=1e-9)

@@ -44,3 +44,20 @@ def test_3_37_feedback_on_z_is_the_z_squared_coefficient():
         P, K = reg.P[k], reg.K[k]
         assert np.allclose(K[0], P[2] / m, rtol=1e-9, atol=1e-12)
         assert abs(K[0, 2] - P[0, 0] / m) > 0.1 * abs(K[0, 2])
+
+
+def test_det_W_along_the_programme():
+    """det W = (M2 R n rho0 - J2 M1)/(R m^3 D^2) (derived for any M1): at M1 = 0 it is the
+    determinant of the library's W(t); with M1 = 0.75 it vanishes at rho0 = J2 M1/(M2 R n) =
+    0.125 m for the example's numbers (the paper's "rank W = 3" fails there)."""
+    prog = linearize_program(gallery.load("regulator-release"), controls=["u1"], samples=81)
+    inner = slice(8, -8)
+    dets = np.linalg.det(prog.W[inner])
+    ref = MOD.det_W(prog.q["rho"][inner])
+    assert np.max(np.abs(dets - ref)) < 1e-3 * np.max(np.abs(ref))
+    p = MOD.DEFAULTS
+    n = p["J1"] / p["R"] ** 2 + p["J"] / p["r"] ** 2
+    star = p["J2"] * 0.75 / (p["M2"] * p["R"] * n)
+    assert star == np.float64(0.125) or abs(star - 0.125) < 1e-12
+    assert abs(MOD.det_W(star, M1=0.75)) < 1e-12
+    assert MOD.det_W(0.9 * star, M1=0.75) < 0 < MOD.det_W(1.1 * star, M1=0.75)

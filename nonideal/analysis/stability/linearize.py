@@ -90,7 +90,9 @@ class Linearization:
     ignorable : tuple of str
         Coordinates dropped because nothing depends on them.
     family : tuple of str
-        Held velocities dropped: a neighbouring steady motion (a zero eigenvalue).
+        Held velocities dropped with their zero eigenvalue (a neighbouring steady motion of the
+        family): decoupled ones as they are, coupled ones at their first integral
+        (:func:`routh_reduction`).
     dependent : tuple of str
         Coordinates and velocities eliminated by the constraints.
     eigenvalues : ndarray of complex
@@ -386,6 +388,18 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
         A_sym, B_sym = symbolic_matrices(k, model, t0, q, v, given, part, symbolic, values, kept, rated)
         A_sym = A_sym.extract(stay, stay)
         B_sym = B_sym.extract(stay, list(range(B_sym.cols)))
+    if about == "steady" and not controls:
+        # a held cyclic velocity that the others depend on (a conical pendulum's azimuth rate):
+        # its family's zero eigenvalue goes with it, as for the decoupled ones above
+        coupled = [nI + part.vel_I.index(j) for j in ignorable if abs(v[j]) > 0
+                   and j in part.vel_I and nI + part.vel_I.index(j) in stay]
+        for i in coupled:
+            reduced = routh_reduction(A_r, A_sym, stay.index(i))
+            if reduced is not None:
+                A_r, A_sym = reduced
+                B_r = np.delete(B_r, stay.index(i), axis=0)
+                stay = [x for x in stay if x != i]
+                family.append(i)
     info = analyse(A_r, A_sym, symbolic, [variables[i] for i in stay], about == "equilibrium")
     ctrl = controllability(A_r, B_r) if controls else {}
     freqs = natural_frequencies(pt, q, v, part, kept) if about == "equilibrium" else ()
@@ -428,6 +442,41 @@ def _with_contacts(model: Model, about, at, options) -> Linearization:
         "the contacts change mode between the guess and the state found ("
         + ", ".join(f"{name}: {labels[name]} -> {found[name]}" for name in labels if labels[name] != found[name])
         + "); the state is not a steady motion in one contact mode", state=init)
+
+
+def routh_reduction(A: np.ndarray, A_sym, pos: int):
+    """``(A, A_sym)`` restricted to the level of the first integral that the velocity at *pos*
+    carries, or None.
+
+    A steady motion with a held cyclic velocity ``w`` is one of a family (another ``w``, another
+    steady motion): ``A`` has a simple zero eigenvalue whose left null vector ``c`` --
+    ``c . x' = 0``, the linearized first integral (the cyclic momentum, Routh) -- weighs on
+    ``w``.  On ``c . x = 0`` (perturbations that keep the integral), ``w = -c_rest . x_rest /
+    c_w``: the reduced matrix is ``A_rest,rest - A_rest,w c_rest / c_w`` with the eigenvalues of
+    ``A`` but that zero.  A decoupled ``w`` (its row and column zero) is the case ``c = e_w``."""
+    n = A.shape[0]
+    if n < 2:
+        return None
+    _, sv, Vt = np.linalg.svd(A.T)
+    norm = max(1.0, float(sv[0]))
+    if sv[-1] > 1e-9 * norm or sv[-2] <= 1e-6 * norm:       # not one simple zero
+        return None
+    c = Vt[-1]
+    if abs(c[pos]) <= 0.1 * float(np.abs(c).max()):
+        return None
+    rest = [i for i in range(n) if i != pos]
+    reduced = clean(A[np.ix_(rest, rest)] - np.outer(A[rest, pos], c[rest] / c[pos]))
+    if A_sym is None:
+        return reduced, None
+    try:
+        (cs,) = A_sym.T.nullspace(simplify=True)
+    except (ValueError, NotImplementedError):
+        return None
+    if sp.simplify(cs[pos]) == 0:
+        return None
+    col = A_sym.extract(rest, [pos])
+    row = sp.Matrix([[cs[i] / cs[pos] for i in rest]])
+    return reduced, (A_sym.extract(rest, rest) - col * row).applyfunc(sp.simplify)
 
 
 def _scale(pt: Point, q, v, part) -> float:
