@@ -39,6 +39,8 @@ class CheckReport:
     initial_mode: str
     notes: list[str] = field(default_factory=list)
     equilibrium: dict[str, Any] | None = None   # servo-constraints, initial state at rest
+    #: parameters written with a unit: name -> {"given", "value", "unit"} (the value converted)
+    converted: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         out = {
@@ -50,6 +52,8 @@ class CheckReport:
         }
         if self.equilibrium is not None:
             out["servo_equilibrium"] = self.equilibrium
+        if self.converted:
+            out["parameters_converted"] = self.converted
         return out
 
     def as_text(self) -> str:
@@ -60,6 +64,9 @@ class CheckReport:
                  f" (first order), {c['second_order']} second order, {c['unilateral']} unilateral,"
                  f" {c['servo']} servo/quasi-ideal",
                  f"  contacts: {c['contacts']}",
+                 *([("  parameters converted to the model's units: "
+                     + ", ".join(f"{k} = {v['given']} = {v['value']:.10g} {v['unit']}"
+                                 for k, v in self.converted.items()))] if self.converted else []),
                  f"  degrees of freedom: configuration {c['configuration_dof']}, velocities {c['dof']}",
                  f"  determinacy: {self.determinacy}"]
         for con in self.constraints:
@@ -164,7 +171,9 @@ def check_model(model: Model) -> CheckReport:
             entry.update(friction.get(entry["name"], {}))
         determinacy = _with_friction(determinacy, friction)
     return CheckReport(model.name, model.source, list(model.coordinates), model.parameter_values,
-                       cons, contacts, counts, determinacy, initial, mode.label(), notes, equilibrium)
+                       cons, contacts, counts, determinacy, initial, mode.label(), notes, equilibrium,
+                       {n: {"given": p.given, "value": p.value, "unit": p.unit}
+                        for n, p in model.parameters.items() if p.given})
 
 
 def servo_notes(dyn) -> list[str]:

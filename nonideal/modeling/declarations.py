@@ -26,12 +26,15 @@ SPLIT_RULES = ("widest-margin", "least-norm")
 
 @dataclass(frozen=True)
 class Parameter:
-    """A named constant: value in SI units, optional unit and description."""
+    """A named constant: value in the model's base units (SI unless ``[units]`` says
+    otherwise), optional unit and description; ``given`` is the quantity as written when it
+    was converted (``"30 deg"`` for the value ``0.5236`` rad)."""
 
     name: str
     value: float
     unit: str = ""
     description: str = ""
+    given: str = ""
 
 
 @dataclass(frozen=True)

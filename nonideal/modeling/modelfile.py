@@ -23,6 +23,7 @@ file is reported at once with the file name.  Expressions go through the safe pa
 from __future__ import annotations
 
 import tomllib
+import warnings
 from pathlib import Path
 from collections.abc import Mapping
 from typing import Any
@@ -30,9 +31,10 @@ from typing import Any
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb, is_infinite
-from ..errors import ModelError, did_you_mean, short_repr
+from ..errors import ModelError, UnitWarning, did_you_mean, short_repr
 from .limits import check_size, read_text
-from .declarations import Control
+from .declarations import Control, Parameter
+from .quantities import base_units, degree_warnings, with_units
 from .model import Constraint, Model, resolve_parameters
 
 from .filechecks import Checker, control_characters, describe, is_expr, toml_problem, unknown_keys
@@ -91,6 +93,12 @@ def load_model(path: str | Path, parameters: Mapping[str, Any] | None = None) ->
     ------
     ModelError
         With the file name, the key and the fix, for every problem found.
+
+    Warns
+    -----
+    UnitWarning
+        A number above 2 pi used as an angle that keeps a contact open at t0 while the same
+        number in degrees would close it (probably degrees written without ``deg``).
     """
     path = Path(path)
     source = str(path)
@@ -103,7 +111,10 @@ def load_model(path: str | Path, parameters: Mapping[str, Any] | None = None) ->
     check_size(data, source)
     if parameters:
         data = override_parameters(data, parameters, source)
-    return model_from_dict(data, source, default_name=path.stem)
+    model = model_from_dict(data, source, default_name=path.stem)
+    for message in degree_warnings(model):
+        warnings.warn(UnitWarning(f"{source}: {message}"), stacklevel=2)
+    return model
 
 
 def override_parameters(data: dict[str, Any], values: Mapping[str, Any], source: str) -> dict[str, Any]:
@@ -219,8 +230,10 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                                 f"{pname} = {{value = 1.0, unit = \"kg\"}}")
                 params[pname] = 0.0   # placeholder: the error above is raised in any case
     check.parameter_names = set(params)
+    base = base_units(data.get("units") if isinstance(data.get("units"), dict) else None)
     check.parameters = resolve_parameters(
-        {n: (v.get("value") if isinstance(v, dict) else v) for n, v in params.items()})[0]
+        {n: (with_units(Parameter(n, v.get("value"), str(v.get("unit", ""))), base, "", []).value
+             if isinstance(v, dict) else v) for n, v in params.items()}, base)[0]
     energy = table("energy")
     for key in ("kinetic", "potential"):
         if key in energy:

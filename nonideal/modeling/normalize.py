@@ -17,6 +17,7 @@ from .contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton
 from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
 
+from .quantities import base_units, with_units
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
 from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
@@ -148,10 +149,10 @@ class Normalizer:
                               str(value.get("description", "")))
             else:
                 p = Parameter(name, value)
-            params[name] = p
-        values, problems = resolve_parameters({n: p.value for n, p in params.items()})
+            params[name] = with_units(p, base_units(m.units), where, self.problems)
+        values, problems = resolve_parameters({n: p.value for n, p in params.items()}, base_units(m.units))
         self.problems += problems
-        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description)
+        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description, p.given)
                                 for n, p in params.items() if n in values})
 
     # -- energy

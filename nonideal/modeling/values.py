@@ -17,6 +17,7 @@ from sympy.core.function import AppliedUndef
 
 from ..errors import ExpressionError, did_you_mean, short_repr
 from .expressions import float_value, parse_expression
+from .quantities import parse_quantity
 from .symbols import t
 
 from .declarations import Parameter
@@ -83,10 +84,12 @@ def derivative_order(expr: sp.Expr, coordinates: Iterable[str]) -> int:
     return order
 
 
-def resolve_parameters(raw: Mapping[str, Any]) -> tuple[dict[str, float], list[str]]:
-    """Numeric values of parameters given as numbers or as expressions (strings) in the other
-    parameters -- derived parameters such as ``theta_eq = "acos(g/(w^2*R))"`` -- evaluated in
-    dependency order with the safe parser.
+def resolve_parameters(raw: Mapping[str, Any], base: Mapping[str, Any] | None = None
+                       ) -> tuple[dict[str, float], list[str]]:
+    """Numeric values of parameters given as numbers, as quantities with a unit (``"30 deg"``,
+    converted to the base units *base*: ``{"length": "cm", ...}``, SI where not given) or as
+    expressions (strings) in the other parameters -- derived parameters such as
+    ``theta_eq = "acos(g/(w^2*R))"`` -- evaluated in dependency order with the safe parser.
 
     Returns
     -------
@@ -101,6 +104,14 @@ def resolve_parameters(raw: Mapping[str, Any]) -> tuple[dict[str, float], list[s
     symbols = {n: sp.Symbol(n) for n in raw}
     for name, value in raw.items():
         where = f"[parameters] {name}"
+        try:
+            quantity = parse_quantity(value)
+            if quantity is not None:
+                values[name] = quantity.in_base(base)
+                continue
+        except ValueError as exc:
+            problems.append(f"{where} = {value!r}: {exc}")
+            continue
         if isinstance(value, str):
             try:
                 pending[name] = parse_expression(value, symbols, where)
