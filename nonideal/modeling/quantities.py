@@ -197,6 +197,8 @@ def degree_warnings(model) -> list[str]:
     """
     from .units import coordinate_kinds
 
+    if not model.contacts:
+        return []
     values = dict(model.parameter_values)
     try:
         initial = dict(model.numeric_initial())
@@ -214,10 +216,10 @@ def degree_warnings(model) -> list[str]:
             angle_params |= {s.name for s in f.args[0].free_symbols if s.name in values}
     suspects = {("parameter", n): values[n] for n in angle_params
                 if abs(values[n]) > 2 * math.pi and n not in given}
-    kinds = coordinate_kinds(model)
-    suspects.update({("coordinate", c): initial[c] for c in model.coordinates
-                     if kinds.get(c) == "angle" and c in initial and abs(initial[c]) > 2 * math.pi})
-    if not suspects or not model.contacts:
+    large = [c for c in model.coordinates if c in initial and abs(initial[c]) > 2 * math.pi]
+    kinds = coordinate_kinds(model) if large else {}
+    suspects.update({("coordinate", c): initial[c] for c in large if kinds.get(c) == "angle"})
+    if not suspects:
         return []
     q = {sp.Symbol(c): initial[c] for c in model.coordinates if c in initial}
     p = {sp.Symbol(n): v for n, v in values.items()}
