@@ -34,7 +34,7 @@ from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, Regu
 from ..errors import ModelError, UnitWarning, did_you_mean, short_repr
 from .limits import check_size, read_text
 from .declarations import Control, Parameter
-from .quantities import base_units, degree_warnings, with_units
+from .quantities import base_unit_of, base_units, degree_warnings, with_units
 from .model import Constraint, Model, resolve_parameters
 
 from .filechecks import Checker, control_characters, describe, is_expr, toml_problem, unknown_keys
@@ -144,6 +144,9 @@ def override_parameters(data: dict[str, Any], values: Mapping[str, Any], source:
                 value = text
         if isinstance(table[name], dict):
             new[name] = {**table[name], "value": value}
+            unit = table[name].get("unit")
+            if isinstance(unit, str) and unit:   # --set gives base units: the unit becomes theirs
+                new[name]["unit"] = base_unit_of(unit, data.get("units"))
         else:
             new[name] = value
     if problems:

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-__all__ = ["UNITS", "Quantity", "parse_quantity", "parse_unit", "base_units", "unit_label", "with_units",
+__all__ = ["UNITS", "Quantity", "parse_quantity", "parse_unit", "base_units", "base_unit_of", "unit_label", "with_units",
            "degree_warnings"]
 
 # dimension exponents (length, mass, time, angle)
@@ -303,6 +303,18 @@ def unit_label(dimension, base=None) -> str:
     if down:
         text += "/" + (down[0] if len(down) == 1 else "(" + " ".join(down) + ")")
     return text
+
+
+def base_unit_of(unit: str, units=None) -> str:
+    """The model's base unit of the quantity *unit* measures (``"deg"`` -> ``"rad"``; ``"cm"``
+    -> ``"m"``, or the ``[units]`` length), or *unit* itself when the table does not know it:
+    a value given in base units (``--set``, ``--vary``) keeps its label and is not converted.
+    """
+    try:
+        _, dim = parse_unit(unit)
+    except ValueError:
+        return unit
+    return unit_label(dim, base_units(units if isinstance(units, dict) else None))
 
 
 def with_units(p, base, where: str, problems: list[str]):

@@ -117,3 +117,13 @@ def test_cli_prints_the_warning_and_the_conversions(tmp_path):
     r = run_cli("check", given)
     assert r.returncode == 0 and "warning" not in r.stderr
     assert "m = 250 g = 0.25 kg, alpha = 30 deg = 0.5235987756 rad" in r.stdout
+
+
+def test_set_gives_base_units_for_a_parameter_declared_in_degrees(tmp_path):
+    path = tmp_path / "ramp.toml"
+    path.write_text(RAMP.replace("ALPHA", '{ value = 30, unit = "deg" }'))
+    assert load_model(path).parameters["alpha"].value == pytest.approx(math.pi / 6, rel=1e-15)
+    # --set (and a sweep's --vary) give the base unit, radians here -- or a quantity
+    assert load_model(path, parameters={"alpha": 0.6}).parameters["alpha"].value == 0.6
+    assert load_model(path, parameters={"alpha": "45 deg"}).parameters["alpha"].value == \
+        pytest.approx(math.pi / 4, rel=1e-15)
