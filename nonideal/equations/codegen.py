@@ -248,7 +248,7 @@ def _c(system: _System, name: str, mode: str) -> str:
         "  returns 0, or 1 when the mode's saddle-point system is singular at this state.",
         f"  {name}_parameters[] holds the model's parameter values (the order above).",
     ]
-    return ("/*\n" + system.header(" *", mode, "c", usage) + " */\n#include <math.h>\n\n"
+    return ("/*\n" + system.header(" *", mode, "c", usage).replace("*/", "* /") + " */\n#include <math.h>\n\n"
             f"const double {name}_parameters[{max(len(system.parameters), 1)}] = {{{defaults}}};\n"
             + _LU_C + f"\nint {name}(double t, const double *y, const double *p, double *dydt, double *mu)\n{{\n"
             + "\n".join(body) + "\n}\n")
