@@ -15,9 +15,9 @@ import symengine as se
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from ..errors import ExpressionError, did_you_mean, short_repr
+from ..errors import ExpressionError, ModelError, did_you_mean, short_repr
 from .expressions import float_value, parse_expression
-from .quantities import parse_quantity
+from .quantities import base_unit_of, parse_quantity
 from .symbols import t
 
 from .declarations import Parameter
@@ -27,9 +27,12 @@ __all__ = ["to_expr", "normalize_sympy", "derivative_order", "resolve_parameters
 
 
 def to_expr(value: Any, names: Mapping[str, sp.Expr], where: str,
-             coordinates: Iterable[str]) -> sp.Expr:
+            coordinates: Iterable[str], vectors=None) -> sp.Expr:
+    """An expression of the model: a string through the safe parser (with the vector
+    functions of *vectors*, the model's kinematics, when given), a SymPy expression with its
+    symbols mapped onto the model's."""
     if isinstance(value, str) or isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
-        return parse_expression(value, names, where)
+        return parse_expression(value, names, where, vectors)
     if isinstance(value, sp.Basic):
         return normalize_sympy(sp.sympify(value), names, where, tuple(coordinates))
     raise ExpressionError(
@@ -186,3 +189,40 @@ def value_problems(expr: sp.Expr, where: str, values: Mapping[sp.Symbol, Any]) -
     except ExpressionError as exc:
         return exc.problems
     return []
+
+
+def override_parameters(data: dict[str, Any], values: Mapping[str, Any], source: str) -> dict[str, Any]:
+    """*data* (a model file's tables) with ``[parameters]`` values replaced by *values*.
+
+    A value is a number or a string (a number, or an expression in the other parameters,
+    checked by the safe parser when the model is built).  Unknown names are reported together,
+    each with the closest parameter name.
+    """
+    table = data.get("parameters", {})
+    if not isinstance(table, dict):
+        return data     # reported by model_from_dict
+    problems = []
+    new = dict(table)
+    for name, value in values.items():
+        if name not in table:
+            known = ", ".join(table) if table else "none"
+            problems.append(f"--set {name}: not a parameter of the model{did_you_mean(name, list(table))} "
+                            f"(its [parameters]: {known}); --set overrides a parameter the file "
+                            "declares")
+            continue
+        if isinstance(value, str):
+            text = value.strip()
+            try:
+                value = float(text)
+            except ValueError:
+                value = text
+        if isinstance(table[name], dict):
+            new[name] = {**table[name], "value": value}
+            unit = table[name].get("unit")
+            if isinstance(unit, str) and unit:   # --set gives base units: the unit becomes theirs
+                new[name]["unit"] = base_unit_of(unit, data.get("units"))
+        else:
+            new[name] = value
+    if problems:
+        raise ModelError(problems, source)
+    return {**data, "parameters": new}
