@@ -165,6 +165,8 @@ def _factor(tokens, text):
         if len(tokens) < 2 or not re.fullmatch(r"[+-]?\d+", tokens[1]):
             raise ValueError(f"the unit {text!r}: a power is an integer, e.g. m^2")
         p = int(tokens[1])
+        if abs(p) > 12:
+            raise ValueError(f"the unit {text!r}: a power of a unit is at most 12 in magnitude")
         f, d, tokens = f ** p, tuple(p * x for x in d), tokens[2:]
     return f, d, tokens
 
@@ -185,7 +187,10 @@ def parse_quantity(text) -> Quantity | None:
         return None
     unit = m.group(2) or m.group(3)
     factor, dim = parse_unit(unit)
-    return Quantity(float(m.group(1)), unit, factor, dim)
+    number = float(m.group(1))
+    if not math.isfinite(number) or not math.isfinite(number * factor):
+        raise ValueError(f"{text!r}: the number overflows")
+    return Quantity(number, unit, factor, dim)
 
 
 def degree_warnings(model) -> list[str]:
