@@ -11,11 +11,12 @@ def _early_stop(signum, frame):  # pragma: no cover - exercised through a subpro
     raise SystemExit(128 + signum)
 
 
-signal.signal(signal.SIGTERM, _early_stop)
-try:
-    from .cli import main
-except KeyboardInterrupt:  # pragma: no cover
-    sys.stderr.write("nonideal: interrupted; nothing was written\n")
-    sys.exit(130)
+if __name__ == "__main__":     # not on import (the documentation imports every module)
+    signal.signal(signal.SIGTERM, _early_stop)
+    try:
+        from .cli import main
+    except KeyboardInterrupt:  # pragma: no cover
+        sys.stderr.write("nonideal: interrupted; nothing was written\n")
+        sys.exit(130)
 
-sys.exit(main())
+    sys.exit(main())

@@ -28,6 +28,7 @@ __all__ = [
     "PainleveParadox",
     "IndeterminateSystem",
     "NotAnEquilibrium",
+    "UnitWarning",
     "LinearizationUndefined",
     "did_you_mean",
 ]
@@ -238,3 +239,8 @@ class LinearizationUndefined(MechanicsError):
 
     def __init__(self, explanation: str, **kw):
         super().__init__("the linearization is undefined: " + explanation, **kw)
+
+
+class UnitWarning(UserWarning):
+    """A number that looks written in other units than the model's: an angle above 2 pi in
+    radians where degrees were probably meant, when it decides whether a contact touches."""

@@ -42,6 +42,8 @@ class CheckReport:
     notes: list[str] = field(default_factory=list)
     equilibrium: dict[str, Any] | None = None   # servo-constraints, initial state at rest
     kinematics: list[str] = field(default_factory=list)   # one line per declared frame and point
+    #: parameters written with a unit: name -> {"given", "value", "unit"} (the value converted)
+    converted: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         out = {
@@ -55,6 +57,8 @@ class CheckReport:
             out["servo_equilibrium"] = self.equilibrium
         if self.kinematics:
             out["frames_and_points"] = self.kinematics
+        if self.converted:
+            out["parameters_converted"] = self.converted
         return out
 
     def as_text(self) -> str:
@@ -66,6 +70,9 @@ class CheckReport:
                  f" (first order), {c['second_order']} second order, {c['unilateral']} unilateral,"
                  f" {c['servo']} servo/quasi-ideal",
                  f"  contacts: {c['contacts']}",
+                 *([("  parameters converted to the model's units: "
+                     + ", ".join(f"{k} = {v['given']} = {v['value']:.10g} {v['unit']}"
+                                 for k, v in self.converted.items()))] if self.converted else []),
                  f"  degrees of freedom: configuration {c['configuration_dof']}, velocities {c['dof']}",
                  f"  determinacy: {self.determinacy}"]
         for con in self.constraints:
@@ -176,7 +183,9 @@ def check_model(model: Model) -> CheckReport:
         determinacy = _with_friction(determinacy, friction)
     return CheckReport(model.name, model.source, list(model.coordinates), model.parameter_values,
                        cons, contacts, counts, determinacy, initial, mode.label(), notes, equilibrium,
-                       describe_kinematics(model.kinematics))
+                       describe_kinematics(model.kinematics),
+                       {n: {"given": p.given, "value": p.value, "unit": p.unit}
+                        for n, p in model.parameters.items() if p.given})
 
 
 def servo_notes(dyn) -> list[str]:

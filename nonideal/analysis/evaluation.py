@@ -91,6 +91,45 @@ class Evaluation:
             out[key] = [float(v) for v in total]
         return out
 
+    def _repr_latex_(self) -> str:
+        """Jupyter: the accelerations and multipliers at the state, typeset."""
+        from ..modeling.symbols import latex_names
+        import sympy as sp
+
+        accelerations = [sp.Symbol(c + "''") for c in self.coordinates]
+        multipliers = [sp.Symbol("lambda_" + k) for k in self.multipliers]
+        names = latex_names(accelerations + multipliers)
+        sa = max(float(np.max(np.abs(self.qdd))) if len(self.qdd) else 1.0, 1.0)
+        rows = [f"{names[s]} &= {_tex(number(a, sa))}" for s, a in zip(accelerations, self.qdd)]
+        rows += [f"{names[s]} &= {_tex(number(v))}" for s, v in zip(multipliers, self.multipliers.values())
+                 if np.ndim(v) == 0]
+        return "$$\\begin{aligned}\n" + " \\\\\n".join(rows) + "\n\\end{aligned}$$"
+
+    def _repr_html_(self) -> str:
+        """Jupyter: the state and its accelerations, the multipliers and the contacts."""
+        from html import escape
+
+        from ..numeric.display import html_table
+
+        sq, sv, sa = (max(float(np.max(np.abs(a))), 1.0) if len(a) else 1.0
+                      for a in (self.q, self.qd, self.qdd))
+        parts = [f"<div><b>{escape(self.model)}</b> at t = {self.t:g} (form {escape(self.form)}, "
+                 f"mode {escape(self.mode)})",
+                 html_table(["coordinate", "q", "q'", "q''"],
+                            [[c, number(q, sq), number(v, sv), number(a, sa)]
+                             for c, q, v, a in zip(self.coordinates, self.q, self.qd, self.qdd)])]
+        rows = [[k, number(v)] for k, v in self.multipliers.items() if k not in self.contacts]
+        if rows:
+            parts.append(html_table(["constraint", "multiplier"], rows))
+        if self.contacts:
+            parts.append(html_table(
+                ["contact", "mode", "N", "friction", "slip", "gap"],
+                [[k, c.get("mode"), number(c.get("normal", 0.0)), _fmt(c.get("friction", ())),
+                  _fmt(c.get("slip", ())), number(c.get("gap", 0.0))] for k, c in self.contacts.items()]))
+        if self.indeterminate:
+            parts.append("statically indeterminate: " + escape(self.indeterminate.get("rule", "")))
+        return "".join(parts) + "</div>"
+
     def as_text(self) -> str:
         lines = [f"{self.model} at t = {self.t:g}  (form: {self.form}, mode: {self.mode})"]
         width = max(len(n) for n in self.coordinates) + 2
@@ -149,6 +188,14 @@ class Evaluation:
 
 def _fmt(values) -> str:
     return numbers(values)
+
+
+def _tex(text: str) -> str:
+    """A number as printed (``1.5e-08``) in LaTeX (``1.5 \\cdot 10^{-8}``)."""
+    if "e" in text:
+        mant, exp = text.split("e")
+        return rf"{mant} \cdot 10^{{{int(exp)}}}"
+    return text
 
 
 def parse_state(model: Model, text: str | None) -> dict[str, float]:

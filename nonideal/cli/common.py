@@ -11,7 +11,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from ..errors import MechanicsError, ModelError, NonidealError, did_you_mean
+from ..errors import MechanicsError, ModelError, NonidealError, UnitWarning, did_you_mean
 from .outputs import output_problems
 
 __all__ = ["ParserContext", "json_option", "model_argument", "load_spec", "model_path", "check_options",
@@ -302,7 +302,9 @@ def numerical_warnings():
     finally:
         seen = set()
         for w in caught:
-            if not issubclass(w.category, RuntimeWarning):
+            if issubclass(w.category, UnitWarning):
+                print(f"warning: {w.message}", file=sys.stderr)
+            elif not issubclass(w.category, RuntimeWarning):
                 warnings.showwarning(w.message, w.category, w.filename, w.lineno)
             elif not failed and str(w.message) not in seen:
                 seen.add(str(w.message))

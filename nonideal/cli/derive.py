@@ -17,6 +17,13 @@ def add_parser(sub, ctx) -> None:
     fmt = d.add_mutually_exclusive_group()
     fmt.add_argument("--latex", action="store_true", help="print LaTeX")
     json_option(fmt)
+    fmt.add_argument("--code", choices=["c", "python", "julia", "matlab"],
+                     help="write the right-hand side dy/dt = (q', q'') of the mode derived (the "
+                     "saddle-point system solved at each call; the state and parameter order in "
+                     "the file's header) as a self-contained source file; to standard output "
+                     "or --output")
+    d.add_argument("--output", metavar="FILE", help="--code: the file written (a MATLAB "
+                   "function takes the file's name)")
     d.add_argument("--independent", help="independent coordinates for the reduced forms, comma-separated")
     d.add_argument("--simplify", action="store_true", help="SymPy's trigsimp of the raw equations instead of the readable default (slow: grows fast with the number of angles)")
     d.add_argument("--contact", action="append", metavar="NAME=STATE",
@@ -40,9 +47,27 @@ def run(args) -> int:
     states = parse_contact_states(args.contact, model)
     if states and not model.contacts:
         raise ModelError("--contact: the model has no [[contacts]]")
+    if args.output and not args.code:
+        raise ModelError("--output: the file of --code; give --code c|python|julia|matlab")
+    if args.code and args.simplify:
+        raise ModelError("--simplify: changes the printed equations only; drop it with --code")
     eom = derive(model, args.form, independent=independent, contacts=states, friction=args.friction)
     outputs = Outputs()
-    if args.json:
+    if args.code:
+        from pathlib import Path
+
+        from ..equations.codegen import generate
+
+        name = None
+        if args.output and args.code == "matlab":
+            name = Path(args.output).stem
+        mode = ", ".join(f"{k} {v}" for k, v in states.items()) if states else ""
+        source = generate(eom, args.code, name=name, mode=mode)
+        if args.output:
+            outputs.add("--output", args.output, lambda tmp: Path(tmp).write_text(source))
+        else:
+            print(source, end="")
+    elif args.json:
         emit_json(args, eom.to_dict(), outputs)
     elif args.latex:
         print(eom.as_latex(simplify=args.simplify))

@@ -131,7 +131,7 @@ def output_problems(args, model_spec: str) -> list[str]:
     problems = []
     seen: dict[Path, str] = {}
     model_path = Path(model_spec).resolve() if Path(model_spec).is_file() else None
-    for option in ("json", "csv", "plot", "animate"):
+    for option in ("json", "csv", "parquet", "plot", "animate"):
         value = getattr(args, option, None)
         if not value or value == "-":
             continue

@@ -48,6 +48,9 @@ def add_parser(sub, ctx) -> None:
     out.add_argument("--json", metavar="OUT", help="write the rows as JSON")
     out.add_argument("--csv", metavar="OUT", help="write the rows as CSV (summaries flattened: "
                      "q.x, qdot.x, ...)")
+    out.add_argument("--parquet", metavar="OUT", help="write the rows as Apache Parquet, "
+                     "columns typed (parameters and summaries float64, exit_code int64, "
+                     "message string); needs pyarrow: pip install 'nonideal[parquet]'")
     s.add_argument("--resume", action="store_true",
                    help="complete an interrupted sweep from its journal (OUT.journal)")
     s.add_argument("--plot", metavar="PNG", help="plot --quantity against the varied parameter "
@@ -84,7 +87,7 @@ def model_file(spec: str) -> Path:
 
 
 def _journal_path(args) -> Path:
-    out = args.json or args.csv
+    out = args.json or args.csv or args.parquet
     return Path(out).with_name(Path(out).name + JOURNAL_SUFFIX)
 
 
@@ -182,8 +185,14 @@ def run(args) -> int:
             check_grid(axes)
         except ModelError as exc:
             problems += exc.problems
-    if "-" in (args.json, args.csv):
-        problems.append("--json/--csv: give a file name (the sweep journals every finished point "
+    if args.parquet:
+        try:
+            import pyarrow.parquet  # noqa: F401
+        except ImportError:
+            problems.append("--parquet: needs pyarrow, which is not installed: pip install "
+                            "'nonideal[parquet]' (or pyarrow), or write --csv or --json")
+    if "-" in (args.json, args.csv, args.parquet):
+        problems.append("--json/--csv/--parquet: give a file name (the sweep journals every finished point "
                         "next to it, OUT.journal, for --resume)")
     if args.workers is not None and args.workers < 1:
         problems.append(f"--workers: must be at least 1 (got {args.workers})")
@@ -269,6 +278,8 @@ def run(args) -> int:
         outputs.add("--json", args.json, lambda tmp: Path(tmp).write_text(text + "\n"))
     if args.csv:
         outputs.add("--csv", args.csv, result.to_csv)
+    if args.parquet:
+        outputs.add("--parquet", args.parquet, result.to_parquet)
     if args.plot:
         from ..plotting import plot_sweep
 

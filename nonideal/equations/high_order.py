@@ -1,7 +1,7 @@
 """Third-order constraints as second-order ones of a model extended by the force's impulse.
 
 A constraint ``f(q, q', q'', q''', t) = 0`` is realized by a generalized force ``R`` that the
-state (q, q') does not determine: the accelerations contain it, ``q''' `` contains its rate, and
+state (q, q') does not determine: the accelerations contain it, ``q'''`` contains its rate, and
 the constraint is a differential equation for it (Yushkov 1999, ch. IV: for linear constraints
 of order three and more the multipliers become unknown functions of time governed by their own
 differential equations).  Two ways of realizing it:

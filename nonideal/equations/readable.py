@@ -2,7 +2,7 @@
 
 The symbolic dynamics (:mod:`nonideal.equations.dynamics`) builds the equations of motion as SymEngine expressions in whatever
 shape the derivation left them (``m*(l**2*sin(q)**2 + l**2*cos(q)**2)*q''``).  This module
-prints them the way a textbook writes them,
+prints them the way a textbook writes them::
 
     m1*l1**2*q1'' + m2*l1*l2*cos(q1 - q2)*q2'' + m2*l1*l2*sin(q1 - q2)*q2'**2 = -g*l1*(m1 + m2)*sin(q1)
 

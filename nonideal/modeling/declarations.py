@@ -26,11 +26,14 @@ SPLIT_RULES = ("widest-margin", "least-norm")
 
 @dataclass(frozen=True)
 class Parameter:
-    """A named constant: value in SI units, optional unit and description.
+    """A named constant: value in the model's base units (SI unless ``[units]`` says
+    otherwise), optional unit and description.
 
     ``definition`` is the expression (text) a derived parameter was given by, in the other
     parameters (``A = "m*r^2/4"``), ``""`` for a number; ``value`` is its value.  Analyses in
     symbolic parameters substitute it (``stability --symbolic r`` carries ``A`` as ``m*r^2/4``).
+    ``given`` is the quantity as written when it was converted (``"30 deg"`` for the value
+    ``0.5236`` rad).
     """
 
     name: str
@@ -38,6 +41,7 @@ class Parameter:
     unit: str = ""
     description: str = ""
     definition: str = ""
+    given: str = ""
 
 
 @dataclass(frozen=True)

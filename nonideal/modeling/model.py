@@ -329,7 +329,9 @@ class Model:
         """Jupyter: name, coordinates, parameters, bodies, constraints and contacts."""
         from html import escape
 
-        params = ", ".join(f"{escape(k)} = {v:g}" for k, v in self.parameter_values.items())
+        params = ", ".join(f"{escape(k)} = {p.value:g}" + (f" {escape(p.unit)}" if p.unit else "")
+                           + (f" ({escape(p.given)})" if p.given else "")
+                           for k, p in self.parameters.items())
         items = [f"<b>{escape(self.name)}</b>",
                  f"coordinates: {escape(', '.join(self.coordinates))}",
                  f"parameters: {params or '(none)'}"]

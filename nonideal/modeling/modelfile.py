@@ -23,6 +23,7 @@ file is reported at once with the file name.  Expressions go through the safe pa
 from __future__ import annotations
 
 import tomllib
+import warnings
 from pathlib import Path
 from collections.abc import Mapping
 from typing import Any
@@ -31,9 +32,11 @@ from typing import Any
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contact_normalize import torque_keys
 from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb, is_infinite
-from ..errors import ModelError, did_you_mean, short_repr
+from ..errors import ModelError, UnitWarning, did_you_mean, short_repr
 from .limits import check_nesting, check_size, read_text
-from .declarations import Control
+from .declarations import Control, Parameter
+from .quantities import base_units, degree_warnings, with_units
+from .values import override_parameters  # noqa: F401  (--set; sweeps import it from here)
 from .frames import FIXED, ORIGIN, Frame
 from .points import Point
 from .model import Constraint, Model, resolve_parameters
@@ -101,6 +104,12 @@ def load_model(path: str | Path, parameters: Mapping[str, Any] | None = None) ->
     ------
     ModelError
         With the file name, the key and the fix, for every problem found.
+
+    Warns
+    -----
+    UnitWarning
+        A number above 2 pi used as an angle that keeps a contact open at t0 while the same
+        number in degrees would close it (probably degrees written without ``deg``).
     """
     path = Path(path)
     source = str(path)
@@ -114,41 +123,10 @@ def load_model(path: str | Path, parameters: Mapping[str, Any] | None = None) ->
     check_size(data, source)
     if parameters:
         data = override_parameters(data, parameters, source)
-    return model_from_dict(data, source, default_name=path.stem)
-
-
-def override_parameters(data: dict[str, Any], values: Mapping[str, Any], source: str) -> dict[str, Any]:
-    """*data* (a model file's tables) with ``[parameters]`` values replaced by *values*.
-
-    A value is a number or a string (a number, or an expression in the other parameters,
-    checked by the safe parser when the model is built).  Unknown names are reported together,
-    each with the closest parameter name.
-    """
-    table = data.get("parameters", {})
-    if not isinstance(table, dict):
-        return data     # reported by model_from_dict
-    problems = []
-    new = dict(table)
-    for name, value in values.items():
-        if name not in table:
-            known = ", ".join(table) if table else "none"
-            problems.append(f"--set {name}: not a parameter of the model{did_you_mean(name, list(table))} "
-                            f"(its [parameters]: {known}); --set overrides a parameter the file "
-                            "declares")
-            continue
-        if isinstance(value, str):
-            text = value.strip()
-            try:
-                value = float(text)
-            except ValueError:
-                value = text
-        if isinstance(table[name], dict):
-            new[name] = {**table[name], "value": value}
-        else:
-            new[name] = value
-    if problems:
-        raise ModelError(problems, source)
-    return {**data, "parameters": new}
+    model = model_from_dict(data, source, default_name=path.stem)
+    for message in degree_warnings(model):
+        warnings.warn(UnitWarning(f"{source}: {message}"), stacklevel=2)
+    return model
 
 
 def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: str = "model") -> Model:
@@ -230,8 +208,10 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                                 f"{pname} = {{value = 1.0, unit = \"kg\"}}")
                 params[pname] = 0.0   # placeholder: the error above is raised in any case
     check.parameter_names = set(params)
+    base = base_units(data.get("units") if isinstance(data.get("units"), dict) else None)
     check.parameters = resolve_parameters(
-        {n: (v.get("value") if isinstance(v, dict) else v) for n, v in params.items()})[0]
+        {n: (with_units(Parameter(n, v.get("value"), str(v.get("unit", ""))), base, "", []).value
+             if isinstance(v, dict) else v) for n, v in params.items()}, base)[0]
     energy = table("energy")
     for key in ("kinetic", "potential"):
         if key in energy:

@@ -15,6 +15,8 @@ from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contact_normalize import normalize_contacts
 from ..errors import ExpressionError, did_you_mean
 from .symbols import is_identifier
+
+from .quantities import base_units, with_units
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
 from .normalize_kinematics import (norm_constraints, normalize_kinematics, normalize_quaternion_initial,
                                    resolve_body)
@@ -153,11 +155,12 @@ class Normalizer:
                               str(value.get("description", "")))
             else:
                 p = Parameter(name, value)
-            params[name] = p
-        values, problems = resolve_parameters({n: p.value for n, p in params.items()})
+            params[name] = with_units(p, base_units(m.units), where, self.problems)
+        values, problems = resolve_parameters({n: p.value for n, p in params.items()}, base_units(m.units))
         self.problems += problems
         self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description,
-                                             p.value if isinstance(p.value, str) else p.definition)
+                                             definition=p.value if isinstance(p.value, str) else p.definition,
+                                             given=p.given)
                                 for n, p in params.items() if n in values})
 
     # -- energy

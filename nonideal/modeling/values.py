@@ -15,8 +15,9 @@ import symengine as se
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from ..errors import ExpressionError, did_you_mean, short_repr
+from ..errors import ExpressionError, ModelError, did_you_mean, short_repr
 from .expressions import float_value, parse_expression
+from .quantities import base_unit_of, parse_quantity
 from .symbols import t
 
 from .declarations import Parameter
@@ -120,10 +121,12 @@ def derivative_order(expr: sp.Expr, coordinates: Iterable[str]) -> int:
     return order
 
 
-def resolve_parameters(raw: Mapping[str, Any]) -> tuple[dict[str, float], list[str]]:
-    """Numeric values of parameters given as numbers or as expressions (strings) in the other
-    parameters -- derived parameters such as ``theta_eq = "acos(g/(w^2*R))"`` -- evaluated in
-    dependency order with the safe parser.
+def resolve_parameters(raw: Mapping[str, Any], base: Mapping[str, Any] | None = None
+                       ) -> tuple[dict[str, float], list[str]]:
+    """Numeric values of parameters given as numbers, as quantities with a unit (``"30 deg"``,
+    converted to the base units *base*: ``{"length": "cm", ...}``, SI where not given) or as
+    expressions (strings) in the other parameters -- derived parameters such as
+    ``theta_eq = "acos(g/(w^2*R))"`` -- evaluated in dependency order with the safe parser.
 
     Returns
     -------
@@ -138,6 +141,14 @@ def resolve_parameters(raw: Mapping[str, Any]) -> tuple[dict[str, float], list[s
     symbols = {n: sp.Symbol(n) for n in raw}
     for name, value in raw.items():
         where = f"[parameters] {name}"
+        try:
+            quantity = parse_quantity(value)
+            if quantity is not None:
+                values[name] = quantity.in_base(base)
+                continue
+        except ValueError as exc:
+            problems.append(f"{where} = {value!r}: {exc}")
+            continue
         if isinstance(value, str):
             try:
                 pending[name] = parse_expression(value, symbols, where)
@@ -221,3 +232,40 @@ def value_problems(expr: sp.Expr, where: str, values: Mapping[sp.Symbol, Any]) -
     except ExpressionError as exc:
         return exc.problems
     return []
+
+
+def override_parameters(data: dict[str, Any], values: Mapping[str, Any], source: str) -> dict[str, Any]:
+    """*data* (a model file's tables) with ``[parameters]`` values replaced by *values*.
+
+    A value is a number or a string (a number, or an expression in the other parameters,
+    checked by the safe parser when the model is built).  Unknown names are reported together,
+    each with the closest parameter name.
+    """
+    table = data.get("parameters", {})
+    if not isinstance(table, dict):
+        return data     # reported by model_from_dict
+    problems = []
+    new = dict(table)
+    for name, value in values.items():
+        if name not in table:
+            known = ", ".join(table) if table else "none"
+            problems.append(f"--set {name}: not a parameter of the model{did_you_mean(name, list(table))} "
+                            f"(its [parameters]: {known}); --set overrides a parameter the file "
+                            "declares")
+            continue
+        if isinstance(value, str):
+            text = value.strip()
+            try:
+                value = float(text)
+            except ValueError:
+                value = text
+        if isinstance(table[name], dict):
+            new[name] = {**table[name], "value": value}
+            unit = table[name].get("unit")
+            if isinstance(unit, str) and unit:   # --set gives base units: the unit becomes theirs
+                new[name]["unit"] = base_unit_of(unit, data.get("units"))
+        else:
+            new[name] = value
+    if problems:
+        raise ModelError(problems, source)
+    return {**data, "parameters": new}

@@ -7,19 +7,19 @@ stop or a touch needs the kinematics, not the accelerations.  The driver locates
 the integrator's dense output (Brent's method) and then asks the mode selection what happens
 next.  Nothing is patched onto functions.
 
-======================  ====================================  =============================
-event                   value                                 in mode
-======================  ====================================  =============================
-:class:`Release`        multiplier of a unilateral constraint held
-:class:`Touch`          the constraint function ``f``         released
-:class:`ContactTouch`   the gap ``g``                         contact separated
-:class:`Lift`           the normal force ``sigma N``          contact touching
-:class:`SlipStart`      ``mu_s |N| - |F|``                    contact sticking
-:class:`SlipStop`       ``s . U`` (one component),            contact sliding
+======================  ======================================  =============================
+event                   value                                   in mode
+======================  ======================================  =============================
+:class:`Release`        multiplier of a unilateral constraint   held
+:class:`Touch`          the constraint function ``f``           released
+:class:`ContactTouch`   the gap ``g``                           contact separated
+:class:`Lift`           the normal force ``sigma N``            contact touching
+:class:`SlipStart`      ``mu_s |N| - |F|``                      contact sticking
+:class:`SlipStop`       ``s . U`` (one component),              contact sliding
                         ``U . s_ref`` (two; ``s_ref`` the
-                                                              slip direction at step start)
-:class:`Jam`            effective normal compliance ``b``     contact sliding (Painleve)
-======================  ====================================  =============================
+                                                                slip direction at step start)
+:class:`Jam`            effective normal compliance ``b``       contact sliding (Painleve)
+======================  ======================================  =============================
 
 ``row`` is the kernel row of a constraint event and the index of the contact of a contact event.
 

@@ -21,7 +21,51 @@ from typing import Any
 import numpy as np
 from scipy.integrate import cumulative_simpson
 
-__all__ = ["Sample", "Trajectory"]
+__all__ = ["Sample", "Trajectory", "Columns"]
+
+
+class Columns(np.ndarray):
+    """An array of shape ``(N, n)`` whose columns are also read by name: ``traj.q["x"]`` is
+    ``traj.q[:, k]`` with ``k`` the index of ``x``.  Every other index is NumPy's.
+
+    Examples
+    --------
+    >>> c = Columns.named(np.array([[1.0, 2.0], [3.0, 4.0]]), ("x", "phi"))
+    >>> c["phi"]
+    array([2., 4.])
+    >>> float(c[1, 0])
+    3.0
+    """
+
+    names: tuple[str, ...] = ()
+
+    @classmethod
+    def named(cls, array: np.ndarray, names) -> "Columns":
+        out = np.asarray(array).view(cls)
+        out.names = tuple(names)
+        return out
+
+    def __array_finalize__(self, obj) -> None:
+        self.names = getattr(obj, "names", ())
+
+    def __getitem__(self, key):
+        if isinstance(key, str):
+            try:
+                k = self.names.index(key)
+            except ValueError:
+                from ..errors import did_you_mean
+
+                raise KeyError(f"no column {key!r}{did_you_mean(key, self.names)}; the columns are "
+                               f"{', '.join(self.names)}") from None
+            return np.asarray(self)[:, k]
+        out = super().__getitem__(key)
+        # a single number stays a number; a slice that drops the columns' axis is a plain array
+        if isinstance(out, Columns) and (out.ndim != 2 or out.shape[1] != len(self.names)):
+            return np.asarray(out)
+        return out
+
+    def __reduce__(self):  # pickled as a plain array with its names
+        return (Columns.named, (np.asarray(self), self.names))
 
 
 @dataclass(frozen=True)
@@ -99,6 +143,10 @@ class Trajectory:
     controls: dict[str, dict[str, Any]] = field(default_factory=dict)
     speeds: dict[str, np.ndarray] = field(default_factory=dict)
     outputs: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        for key in ("q", "qd", "qdd"):
+            object.__setattr__(self, key, Columns.named(getattr(self, key), self.coordinates))
 
     # ---------------------------------------------------------------- construction
     @classmethod
@@ -187,10 +235,46 @@ class Trajectory:
         return len(self.t)
 
     def coordinate(self, name: str) -> np.ndarray:
-        return self.q[:, self.coordinates.index(name)]
+        """The coordinate *name* over the samples, shape (N,); the same as ``traj.q[name]``."""
+        return self.q[name]
 
     def velocity(self, name: str) -> np.ndarray:
-        return self.qd[:, self.coordinates.index(name)]
+        """The velocity of coordinate *name* over the samples, shape (N,); ``traj.qd[name]``."""
+        return self.qd[name]
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """A named series over the samples, shape (N,): ``traj["t"]``, a coordinate
+        ``traj["x"]``, its velocity ``traj["x'"]`` and acceleration ``traj["x''"]``, a
+        multiplier ``traj["lambda_c"]``, an energy term (``traj["kinetic"]``, ``"balance"``...)
+        or any column of :meth:`to_csv` (a contact's ``N_c``, ``gap_c``...).
+
+        Examples
+        --------
+        >>> import nonideal
+        >>> traj = nonideal.simulate(nonideal.Model("fall", ["x"], parameters={"g": 9.81},
+        ...     kinetic="x'**2/2", potential="g*x", initial={"x": 0, "x'": 0}), t_end=1.0)
+        >>> round(float(traj["x"][-1]), 6), round(float(traj["x'"][-1]), 6)
+        (-4.905, -9.81)
+        """
+        if not isinstance(name, str):
+            raise TypeError(f"a trajectory is indexed by a name such as {self.coordinates[0]!r} "
+                            f"or \"{self.coordinates[0]}'\" (got {name!r}); use traj.q[k] for "
+                            "a sample")
+        stripped = name.rstrip("'")
+        order = len(name) - len(stripped)
+        if stripped in self.coordinates and order <= 2:
+            return (self.q, self.qd, self.qdd)[order][stripped]
+        if name.startswith("lambda_") and name[7:] in self.multipliers:
+            return self.multipliers[name[7:]]
+        if name in self.energy:
+            return self.energy[name]
+        columns = dict(self._columns())
+        if name in columns:
+            return columns[name]
+        from ..errors import did_you_mean
+
+        raise KeyError(f"{self.model}: no series {name!r}{did_you_mean(name, list(columns))}; "
+                       f"the names are {', '.join(columns)}")
 
     def at(self, name: str, k: int = -1) -> float:
         """Value of a coordinate (``"x"``) or velocity (``"x'"``) at sample *k*."""
@@ -267,43 +351,54 @@ class Trajectory:
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=1)
 
-    def to_csv(self, path) -> None:
-        """One row per sample: t, q, q', q'', the speeds and outputs, multipliers, per contact its normal force
-        ``N_<name>``, friction and slip components (``F_<name>``, ``U_<name>``; suffixed
-        ``_1, _2`` for two components), gap and mode, then the energy terms and the mode of
-        the whole system."""
-        contact_header, contact_columns = [], []
+    def _columns(self) -> list[tuple[str, Any]]:
+        """The columns of :meth:`to_csv` and :meth:`to_pandas`, in order: (name, values)."""
+        cols: list[tuple[str, Any]] = [("t", np.asarray(self.t))]
+        for arr, suffix in ((self.q, ""), (self.qd, "'"), (self.qdd, "''")):
+            cols += [(c + suffix, np.asarray(arr)[:, k]) for k, c in enumerate(self.coordinates)]
+        cols += [(k, np.asarray(v, dtype=float)) for k, v in self.speeds.items()]
+        cols += [(k, np.asarray(v, dtype=float)) for k, v in self.outputs.items()]
+        cols += [(f"lambda_{k}", v) for k, v in self.multipliers.items()]
         for name, c in self.contacts.items():
-            cols = [("N_" + name, np.asarray(c["normal"], dtype=float))]
+            cols.append(("N_" + name, np.asarray(c["normal"], dtype=float)))
             for key, label in (("friction", "F_"), ("slip", "U_")):
                 values = np.asarray(c[key], dtype=float).reshape(len(self.t), -1)
                 d = values.shape[1]
                 cols += [(label + name + (f"_{j + 1}" if d > 1 else ""), values[:, j]) for j in range(d)]
             if "gap" in c:
                 cols.append(("gap_" + name, np.asarray(c["gap"], dtype=float)))
-            contact_header += [h for h, _ in cols] + ["mode_" + name]
-            contact_columns.append(([v for _, v in cols], c["mode"]))
-        header = ["t"] + list(self.coordinates) + [c + "'" for c in self.coordinates] \
-            + [c + "''" for c in self.coordinates] + list(self.speeds) + list(self.outputs) \
-            + [f"lambda_{k}" for k in self.multipliers] \
-            + contact_header + list(self.energy) \
-            + [f"{k}_{name}" for name, c in self.controls.items()
-               for k in _control_columns(c, labels=True)] + ["mode"]
+            cols.append(("mode_" + name, list(c["mode"])))
+        cols += list(self.energy.items())
+        for name, c in self.controls.items():
+            cols += [(f"{label}_{name}", np.asarray(c[key], dtype=float))
+                     for label, key in zip(_control_columns(c, labels=True), _control_columns(c))]
+        cols.append(("mode", list(self.modes)))
+        return cols
+
+    def to_csv(self, path) -> None:
+        """One row per sample: t, q, q', q'', multipliers, per contact its normal force
+        ``N_<name>``, friction and slip components (``F_<name>``, ``U_<name>``; suffixed
+        ``_1, _2`` for two components), gap and mode, then the energy terms and the mode of
+        the whole system."""
+        cols = self._columns()
         with open(path, "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(header)
+            w.writerow([name for name, _ in cols])
             for k in range(len(self.t)):
-                row = [self.t[k], *self.q[k], *self.qd[k], *self.qdd[k]]
-                row = [f"{x:.17g}" for x in row]
-                row += [f"{v[k]:.17g}" for v in self.speeds.values()]
-                row += [f"{v[k]:.17g}" for v in self.outputs.values()]
-                row += [f"{v[k]:.17g}" for v in self.multipliers.values()]
-                for values, modes in contact_columns:
-                    row += [f"{v[k]:.17g}" for v in values] + [modes[k]]
-                row += [f"{v[k]:.17g}" for v in self.energy.values()]
-                for c in self.controls.values():
-                    row += [f"{c[key][k]:.17g}" for key in _control_columns(c)]
-                w.writerow(row + [self.modes[k]])
+                w.writerow([v[k] if isinstance(v, list) else f"{v[k]:.17g}" for _, v in cols])
+
+    def to_pandas(self):
+        """The columns of :meth:`to_csv` as a ``pandas.DataFrame`` indexed by ``t`` (the modes
+        as strings, everything else float).  Needs pandas (``pip install pandas``); it is not
+        a dependency of nonideal."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Trajectory.to_pandas needs pandas, which nonideal does not require: "
+                              "pip install pandas (or use traj.to_csv / traj.to_dict)") from None
+        cols = self._columns()
+        return pd.DataFrame({name: v for name, v in cols[1:]},
+                            index=pd.Index(np.asarray(self.t), name="t"))
 
 
 def _speeds_and_outputs(model, params, t, q, qd, mult):

@@ -200,3 +200,34 @@ def test_an_interrupted_sweep_names_resume(tmp_path):
     assert proc.returncode == 130
     assert "--resume" in err and str(journal) in err and "nothing was written" not in err
     assert journal.exists() and not out.exists()
+
+
+def test_parquet_round_trips_through_pyarrow_with_typed_columns(tmp_path):
+    pq = pytest.importorskip("pyarrow.parquet", reason="pyarrow is an optional extra (parquet)")
+    out, ref = tmp_path / "s.parquet", tmp_path / "s.json"
+    args = ("sweep", BLOCK, "--vary", "m=-1,2", "--vary", "alpha=0.3,0.5", "--what", "evaluate",
+            "--workers", "1")
+    r = run_cli(*args, "--parquet", out)
+    assert r.returncode == 0, r.stderr
+    assert run_cli(*args, "--json", ref).returncode == 0
+    table = pq.read_table(out)
+    types = {f.name: str(f.type) for f in table.schema}
+    assert table.column_names[:4] == ["m", "alpha", "exit_code", "message"]
+    assert types["m"] == types["alpha"] == types["qddot.x"] == "double"
+    assert types["exit_code"] == "int64" and types["message"] == "string"
+    assert types["contacts.plane.mode"] == "string"
+    meta = {k.decode(): v.decode() for k, v in table.schema.metadata.items()}
+    assert meta["nonideal.what"] == "evaluate"
+    assert json.loads(meta["nonideal.vary"]) == {"m": [-1.0, 2.0], "alpha": [0.3, 0.5]}
+    data = table.to_pydict()
+    rows = json.loads(ref.read_text())["rows"]
+    assert len(data["m"]) == len(rows) == 4
+    for k, row in enumerate(rows):     # the same numbers as the JSON, bit for bit
+        assert data["exit_code"][k] == row["exit_code"] and data["message"][k] == row["message"]
+        assert data["m"][k] == row["parameters"]["m"]
+        if row["exit_code"] == 0:
+            assert data["qddot.x"][k] == row["summary"]["qddot"]["x"]
+            assert data["contacts.plane.normal"][k] == row["summary"]["contacts"]["plane"]["normal"]
+        else:   # a failed point: no summary, NaN in the float columns
+            assert np.isnan(data["qddot.x"][k]) and data["contacts.plane.mode"][k] is None
+    assert [d for d in data["exit_code"]] == [2, 2, 0, 0]

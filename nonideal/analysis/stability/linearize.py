@@ -172,6 +172,19 @@ class Linearization:
         return out
 
 
+    def _repr_latex_(self) -> str:
+        """Jupyter: the characteristic polynomial and the eigenvalues, typeset."""
+        from .display import linearization_latex
+
+        return linearization_latex(self)
+
+    def _repr_html_(self) -> str:
+        """Jupyter: the verdict and why, the state, ``A``, the characteristic polynomial and the
+        eigenvalues."""
+        from .display import linearization_html
+
+        return linearization_html(self)
+
     def as_text(self) -> str:
         """Readable report: the state, the variables, A, the polynomial, the Hurwitz minors,
         the conditions, the verdict and why."""

@@ -24,6 +24,7 @@ next to the output), so an interrupted sweep can be completed: pass the finished
 from __future__ import annotations
 
 import itertools
+import json
 import math
 import os
 import time
@@ -175,13 +176,87 @@ class SweepResult:
             out.append(np.nan if v is None or isinstance(v, str) else float(v))
         return np.array(out, dtype=float)
 
+    def columns(self) -> list[str]:
+        """The flattened columns: the swept parameters, ``exit_code``, ``message``, then every
+        key of the rows' summaries in the order first met (``q.x``, ``margin``...)."""
+        columns = [a.name for a in self.axes] + ["exit_code", "message"]
+        seen = set(columns)
+        for r in self.rows:
+            for k in flatten(r):
+                if k not in seen:
+                    seen.add(k)
+                    columns.append(k)
+        return columns
+
+    def _repr_html_(self) -> str:
+        """Jupyter: one row per point (the first 50), the flattened columns of :meth:`to_csv`."""
+        from html import escape
+
+        from ...numeric.display import html_table
+
+        columns = self.columns()
+        flat = [flatten(r) for r in self.rows[:50]]
+        more = f"<br>... {len(self.rows) - 50} more rows" if len(self.rows) > 50 else ""
+        return (f"<div><b>{escape(self.model)}</b>: {escape(self.what)} over "
+                + escape(" x ".join(f"{a.name} ({len(a.values)})" for a in self.axes))
+                + f", {len(self.rows)} points, {len(self.failed)} failed"
+                + html_table(columns, [[f.get(c) for c in columns] for f in flat]) + more + "</div>")
+
+    def to_pandas(self):
+        """The table of :meth:`to_csv` as a ``pandas.DataFrame`` with typed columns (the
+        parameters and the summaries float, ``exit_code`` int, ``message`` and other text
+        columns str).  Needs pandas, which nonideal does not require."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("SweepResult.to_pandas needs pandas, which nonideal does not "
+                              "require: pip install pandas (or use to_csv / to_dict)") from None
+        return pd.DataFrame({name: values for name, values, _ in self.typed_columns()})
+
+    def typed_columns(self) -> list[tuple[str, list, str]]:
+        """``(name, values, kind)`` per column, kind ``"float"``, ``"int"``, ``"bool"`` or
+        ``"str"``: numbers stay numbers (missing as NaN for floats, None otherwise), a column
+        holding any text is text.  The table that ``--parquet`` writes."""
+        flat = [flatten(r) for r in self.rows]
+        out = []
+        for name in self.columns():
+            values = [f.get(name) for f in flat]
+            present = [v for v in values if v is not None]
+            if name == "exit_code" or (present and all(isinstance(v, (int, np.integer))
+                                                       and not isinstance(v, bool) for v in present)
+                                       and len(present) == len(values)):
+                out.append((name, [int(v) for v in values], "int"))
+            elif present and all(isinstance(v, (bool, np.bool_)) for v in present):
+                out.append((name, [None if v is None else bool(v) for v in values], "bool"))
+            elif all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
+                     for v in present):
+                out.append((name, [np.nan if v is None else float(v) for v in values], "float"))
+            else:
+                out.append((name, [None if v is None else str(v) for v in values], "str"))
+        return out
+
+    def to_parquet(self, path) -> None:
+        """Write the typed table of :meth:`typed_columns` as Apache Parquet (needs pyarrow:
+        ``pip install 'nonideal[parquet]'``); the model, the quantity swept and the axes are
+        in the file's metadata (``nonideal.model``, ``nonideal.what``, ``nonideal.vary``)."""
+        try:
+            import pyarrow as pa
+            import pyarrow.parquet as pq
+        except ImportError:
+            raise ImportError("writing Parquet needs pyarrow, which nonideal does not require: "
+                              "pip install 'nonideal[parquet]' (or pyarrow)") from None
+        kinds = {"float": pa.float64(), "int": pa.int64(), "bool": pa.bool_(), "str": pa.string()}
+        table = pa.table({name: pa.array(values, type=kinds[kind])
+                          for name, values, kind in self.typed_columns()})
+        meta = {"nonideal.model": self.model, "nonideal.what": self.what,
+                "nonideal.vary": json.dumps({a.name: list(map(float, a.values)) for a in self.axes})}
+        pq.write_table(table.replace_schema_metadata(meta), path)
+
     def to_csv(self, path) -> None:
         import csv
 
         flat = [flatten(r) for r in self.rows]
-        columns = [a.name for a in self.axes] + ["exit_code", "message"]
-        for f in flat:
-            columns += [k for k in f if k not in columns]
+        columns = self.columns()
         with open(path, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(columns)
