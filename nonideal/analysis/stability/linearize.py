@@ -59,7 +59,7 @@ from ...numeric.display import number
 from .linear_system import (NEWTON_STEPS, Partition, Point, check_parameters, clean, ignorable_set,
                             kernel_of, natural_frequencies, parse_state, partition, state_matrices)
 from .contacts import as_constraints, contact_modes, described, guess_state
-from .routh import analyse, controllability
+from .routh import analyse, controllability, routh_reduction
 from .symbolic import symbolic_matrices
 
 __all__ = ["Linearization", "linearize", "ABOUT"]
@@ -455,41 +455,6 @@ def _with_contacts(model: Model, about, at, options) -> Linearization:
         "the contacts change mode between the guess and the state found ("
         + ", ".join(f"{name}: {labels[name]} -> {found[name]}" for name in labels if labels[name] != found[name])
         + "); the state is not a steady motion in one contact mode", state=init)
-
-
-def routh_reduction(A: np.ndarray, A_sym, pos: int):
-    """``(A, A_sym)`` restricted to the level of the first integral that the velocity at *pos*
-    carries, or None.
-
-    A steady motion with a held cyclic velocity ``w`` is one of a family (another ``w``, another
-    steady motion): ``A`` has a simple zero eigenvalue whose left null vector ``c`` --
-    ``c . x' = 0``, the linearized first integral (the cyclic momentum, Routh) -- weighs on
-    ``w``.  On ``c . x = 0`` (perturbations that keep the integral), ``w = -c_rest . x_rest /
-    c_w``: the reduced matrix is ``A_rest,rest - A_rest,w c_rest / c_w`` with the eigenvalues of
-    ``A`` but that zero.  A decoupled ``w`` (its row and column zero) is the case ``c = e_w``."""
-    n = A.shape[0]
-    if n < 2:
-        return None
-    _, sv, Vt = np.linalg.svd(A.T)
-    norm = max(1.0, float(sv[0]))
-    if sv[-1] > 1e-9 * norm or sv[-2] <= 1e-6 * norm:       # not one simple zero
-        return None
-    c = Vt[-1]
-    if abs(c[pos]) <= 0.1 * float(np.abs(c).max()):
-        return None
-    rest = [i for i in range(n) if i != pos]
-    reduced = clean(A[np.ix_(rest, rest)] - np.outer(A[rest, pos], c[rest] / c[pos]))
-    if A_sym is None:
-        return reduced, None
-    try:
-        (cs,) = A_sym.T.nullspace(simplify=True)
-    except (ValueError, NotImplementedError):
-        return None
-    if sp.simplify(cs[pos]) == 0:
-        return None
-    col = A_sym.extract(rest, [pos])
-    row = sp.Matrix([[cs[i] / cs[pos] for i in rest]])
-    return reduced, (A_sym.extract(rest, rest) - col * row).applyfunc(sp.simplify)
 
 
 def _scale(pt: Point, q, v, part) -> float:

@@ -15,7 +15,9 @@ from typing import Sequence
 import numpy as np
 import sympy as sp
 
-__all__ = ["analyse", "zero_cluster", "null_directions", "hurwitz_minors", "routh_hurwitz_conditions", "even_conditions", "controllability",
+from .linear_system import clean
+
+__all__ = ["analyse", "routh_reduction", "zero_cluster", "null_directions", "hurwitz_minors", "routh_hurwitz_conditions", "even_conditions", "controllability",
            "verdict_of"]
 
 S = sp.Symbol("s")
@@ -256,3 +258,38 @@ def controllability(A: np.ndarray, B: np.ndarray) -> dict:
     sv = np.linalg.svd(W, compute_uv=False)
     rank = int(np.sum(sv > 1e-9 * sv.max())) if sv.size and sv.max() > 0 else 0
     return {"rank": rank, "n": n}
+
+
+def routh_reduction(A: np.ndarray, A_sym, pos: int):
+    """``(A, A_sym)`` restricted to the level of the first integral that the velocity at *pos*
+    carries, or None.
+
+    A steady motion with a held cyclic velocity ``w`` is one of a family (another ``w``, another
+    steady motion): ``A`` has a simple zero eigenvalue whose left null vector ``c`` --
+    ``c . x' = 0``, the linearized first integral (the cyclic momentum, Routh) -- weighs on
+    ``w``.  On ``c . x = 0`` (perturbations that keep the integral), ``w = -c_rest . x_rest /
+    c_w``: the reduced matrix is ``A_rest,rest - A_rest,w c_rest / c_w`` with the eigenvalues of
+    ``A`` but that zero.  A decoupled ``w`` (its row and column zero) is the case ``c = e_w``."""
+    n = A.shape[0]
+    if n < 2:
+        return None
+    _, sv, Vt = np.linalg.svd(A.T)
+    norm = max(1.0, float(sv[0]))
+    if sv[-1] > 1e-9 * norm or sv[-2] <= 1e-6 * norm:       # not one simple zero
+        return None
+    c = Vt[-1]
+    if abs(c[pos]) <= 0.1 * float(np.abs(c).max()):
+        return None
+    rest = [i for i in range(n) if i != pos]
+    reduced = clean(A[np.ix_(rest, rest)] - np.outer(A[rest, pos], c[rest] / c[pos]))
+    if A_sym is None:
+        return reduced, None
+    try:
+        (cs,) = A_sym.T.nullspace(simplify=True)
+    except (ValueError, NotImplementedError):
+        return None
+    if sp.simplify(cs[pos]) == 0:
+        return None
+    col = A_sym.extract(rest, [pos])
+    row = sp.Matrix([[cs[i] / cs[pos] for i in rest]])
+    return reduced, (A_sym.extract(rest, rest) - col * row).applyfunc(sp.simplify)
