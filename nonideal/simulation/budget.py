@@ -110,14 +110,23 @@ class StepBudget:
         self.steps += 1
         if self.steps % 64 or t <= self.t0:
             return
+        self._check(t, self.steps % PROBE_STEPS == 0)
+
+    def _check(self, t: float, probe: bool) -> None:
         progress = (t - self.t0) / (self.t_end - self.t0)
         elapsed = time.process_time() - self.start
-        if self.steps % PROBE_STEPS == 0 and self.steps / progress > self.limit:
+        if probe and self.steps / progress > self.limit:
             self._refuse(t, f"{self.steps} steps", f"about {self.steps / progress:.2g} steps",
                          f"{self.limit:.0e} steps")
         if elapsed >= PROBE_SECONDS and elapsed / progress > self.seconds:
             self._refuse(t, f"{elapsed:.2g} s", f"about {elapsed / progress:.2g} s",
                          f"{self.seconds:g} s")
+
+    def advance(self, t: float, steps: int) -> None:
+        """*steps* steps taken at once (natively) up to *t*, then checked."""
+        self.steps += steps
+        if steps and t > self.t0:
+            self._check(t, self.steps >= PROBE_STEPS)
 
     def _refuse(self, t: float, spent: str, needed: str, limit: str):
         other = ("an explicit integrator (--method DOP853) for a motion that oscillates fast rather "
