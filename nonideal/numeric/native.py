@@ -22,7 +22,8 @@ written with ``repr`` (exact), and every expression is checked with :mod:`ast` t
 arithmetic, numbers, those names and a fixed set of math functions before it is written.
 
 **Cache.**  Files are named by the SHA-256 of their source with the library's and numba's
-versions, so a changed model, library or numba never reads a stale entry; a source is written
+versions and the generic loop's source, so a changed model, library or numba never reads a
+stale entry; a source is written
 to a temporary file and renamed into place (concurrent writers race harmlessly), and numba's
 own cache files (``__pycache__`` beside it) are written the same way.  A cache entry that does
 not load (corrupt, unwritable directory) is rebuilt in a private temporary directory; if numba
@@ -179,6 +180,7 @@ class Native:
         from . import integrator
 
         self.kernel = module.kernel
+        self.rhs = module.rhs
         self.integrator = integrator
         self.n = kernel.n
         self.nx = len(kernel.symbols)
@@ -214,7 +216,7 @@ def _warm(module, kernel) -> None:
     w = np.zeros(nx + nz + n * n + n)
     ix = np.concatenate((np.array([n, 0, -1, 0, 0, nx, nz], dtype=np.int64), np.zeros(n, dtype=np.int64)))
     integrator.evaluate(module.kernel, np.zeros(nx), np.zeros(nz))
-    integrator.rhs(module.kernel, 0.0, y, w, ix, np.zeros(2 * n))
+    module.rhs(0.0, y, w, ix, np.zeros(2 * n))
     integrator.phase(module.kernel, 0.0, y, np.zeros(2 * n), 1.0, 0.0, 1e-3, np.ones(2 * n), np.inf,
                      w, ix, np.zeros(0), 0, 0, 0.0)
 
@@ -290,7 +292,9 @@ def native_of(kernel) -> Native | None:
             source = module_source(kernel)
             from .. import __version__
 
-            key = hashlib.sha256(f"{__version__}\0{numba.__version__}\0{source}".encode()).hexdigest()
+            # the generic loop is linked into the module's wrapper: its source is part of the key
+            loop = Path(__file__).with_name("integrator.py").read_bytes()
+            key = hashlib.sha256(f"{__version__}\0{numba.__version__}\0{source}".encode() + loop).hexdigest()
             return Native(_load(source, key, kernel), kernel)
         except NotNative:
             return None
@@ -307,6 +311,8 @@ import math
 
 from numba import carray, cfunc, njit, types
 
+from nonideal.numeric.integrator import rhs as _rhs
+
 NX, NZ = {nx}, {nz}
 
 
@@ -320,4 +326,11 @@ def kernel(xp, zp):
     x = carray(xp, (NX,))
     z = carray(zp, (NZ,))
 {body}
+
+
+@njit(cache=True)
+def rhs(t, y, w, ix, dy):
+    """The right-hand side with this kernel (called from Python without passing the callback,
+    whose typing costs more than the call)."""
+    return _rhs(kernel, t, y, w, ix, dy)
 '''

@@ -98,13 +98,13 @@ class FastPhases:
             return None
         if self._system(mode) is None or not self.native:
             return None
-        step, kern = self.native.integrator.rhs, self.native.kernel
+        step = self.native.rhs
         w, ix = self.buffers(mode)
         size = 2 * self.sim.n + (5 if self.sim.track else 0)
 
         def fun(t, y):
             dy = np.empty(size)
-            if step(kern, t, y, w, ix, dy):
+            if step(t, y, w, ix, dy):
                 return dy
             return general(t, y)
         return fun
