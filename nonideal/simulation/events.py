@@ -95,6 +95,11 @@ class Event:
     def value(self, motion) -> float:
         raise NotImplementedError
 
+    def scale(self, motion) -> float:
+        """The size of the value's terms: a step may change a force guard by a fraction of it
+        (:func:`~nonideal.simulation.guards.step_limit`)."""
+        return motion.force_scale()
+
     def record(self, t: float) -> dict:
         return {"t": t, "type": self.kind, "constraint": self.name}
 
@@ -167,6 +172,12 @@ class SlipStart(ContactEvent):
             return math.inf
         F = motion.friction(self.row)
         return mu_s * abs(motion.normal(self.row)) - math.sqrt(F @ F)
+
+    def scale(self, motion) -> float:
+        """The cone's radius ``mu_s |N|`` or the model's forces, the larger."""
+        mu_s = motion.mu_s(self.row)
+        cone = mu_s * abs(motion.normal(self.row)) if mu_s != math.inf else 0.0
+        return max(motion.force_scale(), cone)
 
 
 @dataclass(frozen=True)

@@ -24,9 +24,39 @@ dense output inside the step instead:
 
 The cost is ``PROBES`` evaluations of the watched quantities per step (kinematic quantities for
 gaps and slips, one solve of the mode for forces), plus a few dozen for each local minimum.
+
+Samples only find what the step resolves.  The integrator's error control resolves the state,
+hence the kinematic functions of the state; it does not see a force guard that varies faster
+than the state: a block held by static friction under a force ``F(t)`` oscillating at 1000
+rad/s has a constant state (its sticking mode is integrated exactly by any step), while the
+margin of its friction cone ``mu_s N - |F(t)|`` dips below zero for a fraction of every period.
+A :class:`GuardRates` therefore bounds the variation of the force guards over the next step:
+
+5. at the end of every accepted step (and at the start of a phase) the rate and the curvature
+   of each force guard along the motion, ``g'`` and ``g''``, are the central differences of
+   ``g`` a short way (:data:`RATE_STEP` of the step) along the trajectory's tangent
+   ``(q', q'')`` -- two more solves of the mode, shared by the force guards.  The tangent
+   gives ``g'`` to second order (all of ``dg/dt = g_t + g_y y'``); ``g''`` lacks the term
+   ``g_y y''`` of the trajectory's own curvature, which the integrator resolves;
+6. the next step is limited to the largest ``h`` with ``|g'| h + |g''| h^2 / 2 <= RESOLVE G``
+   (:func:`step_limit`), ``G`` the guard's scale (the forces of the model at the state, the
+   radius of the friction cone when larger): a
+   step covers at most a fraction of the time in which the guard can change by its own size,
+   so that the guard's dips are sampled by the probes of step 1 (a limit on the resolution,
+   not on the distance to zero: steps do not shrink geometrically as a guard approaches its
+   root, they bracket it);
+7. the rates at the ends of a step decide, like the kinematic slopes, whether the force guards
+   are probed inside it (a guard that falls and rises again within the step shows a slope at
+   its ends).
+
+The guard derivative is all that a compiled loop needs to reproduce: ``g`` and its first two
+time derivatives along the motion at the step's end (here by differences, compiled they can be
+exact), the closed-form limit of step 6, and the probes of steps 1-4.
 """
 
 from __future__ import annotations
+
+import math
 
 from collections.abc import Callable, Sequence
 
@@ -34,8 +64,10 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from ..modes.motion import Motion
+from ..numeric.kernel import SingularMatrix
 
-__all__ = ["PROBES", "StepScan", "Step", "event_hits"]
+__all__ = ["PROBES", "RESOLVE", "RATE_STEP", "StepScan", "Step", "GuardRates", "step_limit",
+           "event_hits"]
 
 PROBES = 3
 """Interior samples of the event functions per accepted step."""
@@ -47,6 +79,31 @@ SLOPE_STEP = 1e-6
 this fraction of the step along the trajectory's tangent."""
 NEAR_END = 1e-3
 """Two more samples this fraction of an interval inside the ends of the step (the slopes)."""
+RESOLVE = 0.25
+"""A step may change a force guard, by its local quadratic model, by at most this fraction of
+its scale (:func:`step_limit`); with the :data:`PROBES` samples, a dip of the guard is sampled
+about 20 times per time in which the guard changes by its own size."""
+RATE_STEP = 1e-3
+"""The force guards' rates are differences over this fraction of the last step along the
+trajectory's tangent (their rounding, ``~ eps G / e^2`` in the curvature, is taken off)."""
+
+
+def step_limit(rate: float, curvature: float, scale: float) -> float:
+    """The largest step ``h`` with ``|rate| h + |curvature| h^2 / 2 <= RESOLVE scale``.
+
+    Examples
+    --------
+    >>> step_limit(0.0, 0.0, 1.0)
+    inf
+    >>> round(step_limit(2.0, 0.0, 1.0), 12)  # a linear guard: RESOLVE scale / |rate|
+    0.125
+    >>> round(step_limit(0.0, 8.0, 1.0), 12)  # at a turning point: sqrt(2 RESOLVE scale / |g''|)
+    0.25
+    """
+    r, c, budget = abs(float(rate)), abs(float(curvature)), RESOLVE * float(scale)
+    if r == 0.0 and c == 0.0:
+        return math.inf
+    return 2.0 * budget / (r + math.sqrt(r * r + 2.0 * c * budget))
 
 
 class StepScan:
@@ -118,12 +175,13 @@ class StepScan:
         ``|g(b) - g(a)|`` and, for the cheap (kinematic: gaps, slips) functions whose slopes at
         the ends are known, ``h |g'|`` at either end: a dip to zero and back within the step
         shows in the slopes (a slip that stops and restarts, a flight landing within the step).
-        A cheap function without slopes is always probed."""
+        A cheap function without slopes is always probed; a force guard's slopes are its
+        rates (:class:`GuardRates`) when known."""
         change = abs(gb - ga)
-        if self.cheap is None or self.cheap[k]:
-            slopes = self.slopes(k) if self.slopes is not None else None
-            if slopes is None:
-                return True
+        slopes = self.slopes(k) if self.slopes is not None else None
+        if slopes is None and (self.cheap is None or self.cheap[k]):
+            return True
+        if slopes is not None:
             change = max(change, (self.b - self.a) * max(abs(slopes[0]), abs(slopes[1])))
         return min(ga, gb) <= PROBE_NEAR * change
 
@@ -136,7 +194,8 @@ class StepScan:
     def _scan(self, k: int, s, g) -> float | None:
         for i in range(1, len(s)):
             if i < len(s) - 1 and 0 < g[i] < g[i - 1] and g[i] < g[i + 1] \
-                    and g[i] < max(g[i - 1], g[i + 1]) - g[i]:  # a dip as deep as its height
+                    and (g[i] < max(g[i - 1], g[i + 1]) - g[i]  # a dip as deep as its height
+                         or _vertex(s[i - 1:i + 2], g[i - 1:i + 2]) <= 0):  # or its parabola's
                 low = self._minimum(k, s[i - 1], s[i + 1])
                 if low is not None and low[1] <= 0:
                     return self._root(k, s[i - 1], low[0])
@@ -162,6 +221,15 @@ class StepScan:
         res = minimize_scalar(f, bounds=(lo, hi), method="bounded",
                               options={"xatol": 1e-12 * max(1.0, abs(hi)) + 1e-9 * (hi - lo)})
         return float(res.x), float(res.fun)
+
+
+def _vertex(s, g) -> float:
+    """The lowest value of the parabola through three samples ``(s_j, g_j)`` whose middle one
+    is the lowest (a dip whose minimum lies close to one of its neighbours)."""
+    d01 = (g[1] - g[0]) / (s[1] - s[0])
+    curvature = ((g[2] - g[1]) / (s[2] - s[1]) - d01) / (s[2] - s[0])
+    slope = d01 + curvature * (s[1] - s[0])
+    return g[1] - slope * slope / (4.0 * curvature)
 
 
 class Step:
@@ -209,10 +277,59 @@ class Step:
         return m
 
 
-def event_hits(step: Step, events, armed: list[bool], tols, g_prev, g_new) -> list[tuple[float, int]]:
+class GuardRates:
+    """The rates of a mode's force guards (steps 5-7 of the module docstring).
+
+    Parameters
+    ----------
+    events : sequence of Event
+        The mode's events; those that are not kinematic are watched.
+    """
+
+    def __init__(self, events):
+        self.events = events
+        self.watched = [k for k, ev in enumerate(events) if not ev.kinematic]
+
+    def at(self, motion: Motion, span: float) -> dict[int, tuple[float, float]] | None:
+        """``{event: (g', g'')}`` at *motion*, differences over ``RATE_STEP span`` along the
+        tangent ``(q', q'')``; None without force guards (or when the mode cannot be solved
+        a short way off the state)."""
+        if not self.watched or not span > 0.0:
+            return None
+        n, t, y = motion.n, motion.t, motion.y
+        e = RATE_STEP * span
+        tangent = np.zeros_like(y)
+        try:
+            tangent[:n], tangent[n:2 * n] = motion.qd, motion.qdd
+            ahead = Motion(motion.solver, motion.mode, t + e, y + e * tangent)
+            behind = Motion(motion.solver, motion.mode, t - e, y - e * tangent)
+            out = {}
+            for k in self.watched:
+                ev = self.events[k]
+                g, gp, gm = ev.value(motion), ev.value(ahead), ev.value(behind)
+                if not np.isfinite(g + gp + gm):
+                    continue
+                noise = 16 * np.finfo(float).eps * ev.scale(motion) / (e * e)
+                curvature = (gp - 2.0 * g + gm) / (e * e)
+                out[k] = ((gp - gm) / (2.0 * e), np.sign(curvature) * max(abs(curvature) - noise, 0.0))
+        except (ArithmeticError, ValueError, np.linalg.LinAlgError, SingularMatrix):
+            return None
+        return out
+
+    def limit(self, rates, motion: Motion) -> float:
+        """The longest next step that the force guards allow (:func:`step_limit`, each with
+        its own scale, :meth:`Event.scale <nonideal.simulation.events.Event.scale>`)."""
+        if not rates:
+            return np.inf
+        return min(step_limit(r, c, self.events[k].scale(motion)) for k, (r, c) in rates.items())
+
+
+def event_hits(step: Step, events, armed: list[bool], tols, g_prev, g_new,
+               rates=(None, None)) -> list[tuple[float, int]]:
     """``(time, index)`` of every event that fires in *step* (:class:`StepScan`); *armed* is
     updated for the events armed inside the step.  An unarmed event whose function left zero
-    on the wrong side (a force that was zero at the switch) fires where it passes ``-tol/2``."""
+    on the wrong side (a force that was zero at the switch) fires where it passes ``-tol/2``.
+    *rates* are the force guards' rates at the two ends of the step (:meth:`GuardRates.at`)."""
     if not events:
         return []
 
@@ -220,6 +337,10 @@ def event_hits(step: Step, events, armed: list[bool], tols, g_prev, g_new) -> li
         return events[k].value(step.motion(s))
 
     def slopes(k):
+        if not events[k].kinematic:
+            if rates[0] is None or rates[1] is None or k not in rates[0] or k not in rates[1]:
+                return None
+            return rates[0][k][0], rates[1][k][0]
         tangents = step.tangents()
         if tangents is None:
             return None

@@ -36,7 +36,7 @@ from ..numeric.kernel import kernel_of, max_abs, parameter_vector
 from ..modes.switching import impact, select_mode
 from ..modes.validation import validate_state
 from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
-from .guards import Step, event_hits
+from .guards import GuardRates, Step, event_hits
 from .singular import BRANCHES, JUMP_FROM, SINGULAR, Regularity, explain_stall
 from .extended import reduce
 from ..equations.high_order import extension_of
@@ -305,7 +305,7 @@ class Simulation:
         IntegrationFailed, MechanicsError (PainleveParadox), InconsistentInitialConditions
         """
         model = self.model
-        t0 = model.t0
+        t0, source = model.t0, None if model.source == "<api>" else model.source
         if times is not None:
             times = np.array([float(s) for s in times])
             if not np.all(np.isfinite(times)):
@@ -322,8 +322,7 @@ class Simulation:
             else:
                 t_end = model.simulation.t_end
         if t_end is None:
-            raise ModelError("no end time: give [simulation] t_end in the model or --t-end",
-                             None if model.source == "<api>" else model.source)
+            raise ModelError("no end time: give [simulation] t_end in the model or --t-end", source)
         if times is not None and times.size and times[-1] > t_end:
             t_end = float(times[-1])
         n = self.n
@@ -335,7 +334,7 @@ class Simulation:
         atol = self._work_tolerances() if self.track else self.atol
         samples = SampleBuffer(self.max_samples)  # bounded: thinned past max_samples steps
         self.fast.start()
-        budget = StepBudget(t0, t_end, None if model.source == "<api>" else model.source, method=self.method)
+        budget = StepBudget(t0, t_end, source, method=self.method)
         events_log: list[dict] = []
         next_time = 0
 
@@ -369,7 +368,9 @@ class Simulation:
                 emit(t, y, mode, motion)
                 pending = False
             solver.set_references(mode, motion)
-            ode = Solver(fun, t, y, t_end, **kwargs)
+            guard_rates = GuardRates(events)  # steps short enough to sample the force guards
+            rates = guard_rates.at(motion, h or 1e-3 * (t_end - t))
+            ode = Solver(fun, t, y, t_end, **dict(kwargs, max_step=min(self.max_step, guard_rates.limit(rates, motion))))
             g_prev = [ev.value(motion) for ev in events]
             watched = regularity.rows(solver.rows(mode))
             level = SINGULAR if self.singular == "stop" else JUMP_FROM
@@ -388,8 +389,7 @@ class Simulation:
                 message = ode.step()
                 if ode.status == "failed":
                     explain_stall(self, ode, mode)
-                    raise IntegrationFailed(ode.t, mode.label(), message or "step failed",
-                                            None if model.source == "<api>" else model.source)
+                    raise IntegrationFailed(ode.t, mode.label(), message or "step failed", source)
                 t_old, t_new = ode.t_old, ode.t
                 if solver.charts is not None:  # Lagrange II: change charts at accepted states
                     solver.charts.settle(mode, t_new, ode.y[:n], ode.y[n:2 * n])
@@ -401,13 +401,13 @@ class Simulation:
                     raise IntegrationFailed(
                         t_new, mode.label(), "the step size collapsed below 1e-9 of the time span (or of 1) for "
                         "2000 steps: the right-hand side is not smooth here (a nonlinear constraint at "
-                        "a singular point, or a friction law without a sticking mode at zero slip)",
-                        None if model.source == "<api>" else model.source)
+                        "a singular point, or a friction law without a sticking mode at zero slip)", source)
                 # the integrator's last evaluation was at (t_new, ode.y): the motion reuses it
                 motion = Motion(solver, mode, t_new, ode.y)
                 g_new = [ev.value(motion) for ev in events]
                 step = Step(solver, mode, ode, motion)
-                hits = event_hits(step, events, armed, tols, g_prev, g_new)
+                rates_new = guard_rates.at(motion, h)
+                hits = event_hits(step, events, armed, tols, g_prev, g_new, (rates, rates_new))
                 singular = regularity.crossing(step, watched, level) if watched else None
                 passed = None  # a singular instant carried over on the smooth branch
                 if singular is not None and (not hits or singular <= min(hits)[0]):
@@ -466,8 +466,7 @@ class Simulation:
                             next_time += 1
                     if len(events_log) > self.max_events:
                         raise IntegrationFailed(te, mode.label(), f"more than {self.max_events} mode "
-                                                "switches (chattering or Zeno behaviour)",
-                                                None if model.source == "<api>" else model.source)
+                                                "switches (chattering or Zeno behaviour)", source)
                     mode = new_mode
                     t = te
                     if times is None:
@@ -483,7 +482,8 @@ class Simulation:
                 if solver.reference:  # the slip-stop values change with the reference only
                     solver.set_references(mode, motion)
                     g_new = [ev.value(motion) for ev in events]
-                g_prev = g_new
+                g_prev, rates = g_new, rates_new
+                ode.max_step = min(self.max_step, guard_rates.limit(rates, motion))
                 # drift control
                 res_p, res_v = motion.residuals(drift)
                 residual_max["position"] = max(residual_max["position"], res_p)
