@@ -156,6 +156,9 @@ def check_arguments(model, t_end, times, form, options: dict) -> None:
     real_number(options.get("max_step"), f, "max_step", positive=True)
     for name in ("parameters", "initial"):
         require_mapping(options.get(name), f, name, "{'m': 2.0}")
+    native = options.get("native")
+    if native is not None and not isinstance(native, bool):
+        raise ModelError(f"{f}: native must be True, False or None (after a phase's first steps), got {native!r}")
     limit = options.get("max_samples", MAX_SAMPLES)
     if limit is not None and (isinstance(limit, bool) or not isinstance(limit, numbers.Integral)
                               or limit < 2):
