@@ -4,7 +4,7 @@ mode without contact rows and SciPy's DOP853 looped over a phase without events.
 Generic code, compiled once and cached by numba for every model: the model enters as its
 compiled kernel (:mod:`nonideal.numeric.native`: a C callback ``kernel(x, z)`` writing the
 nonzero entries of the kernel's flat output ``z`` from the input ``x = [t, q, q',
-parameters]``).  Imported only when numba is installed.
+parameters]``).  Used only when numba is installed.
 
 * :func:`rhs` -- ``y' = [q', q'', W']``: the saddle-point system ``[[M, B], [G, 0]] [q'';
   -lambda] = [F; -gamma]`` gathered from ``z`` by the mode's index arrays (those of
@@ -21,8 +21,13 @@ work array ``w`` is ``[x | z | K | r | B^T q']`` (:meth:`nonideal.numeric.native
 import math
 
 import numpy as np
-from numba import njit
 from scipy.integrate import DOP853 as _D
+
+try:
+    from numba import njit
+except ImportError:  # the extra 'fast' absent: importable (documentation, doctests), never called
+    def njit(*args, **kwargs):
+        return args[0] if args and callable(args[0]) else (lambda fn: fn)
 
 __all__ = ["rhs", "phase", "evaluate"]
 
