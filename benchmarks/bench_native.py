@@ -202,6 +202,7 @@ def main():
     args = ap.parse_args()
     repeat = 2 if args.quick else 3
     use_pydy = not args.no_pydy and C.pydy_available()
+    machine = C.machine()
     r3 = part3()
     r1 = part1(repeat)
     r2 = part2(repeat, use_pydy)
@@ -232,7 +233,8 @@ def main():
               r1["final_vs_scipy"], r1["final_native_vs_scipy_path"], r1["final_vs_numba"]),
           "; RHS native vs NumPy %.1e" % r2["rhs_native_vs_numpy"],
           ("; n = 10 final vs PyDy %.1e" % r2["sim10_final_vs_pydy"]) if "sim10_final_vs_pydy" in r2 else "")
-    path = C.write_json("native", {"pendulum_1dof": r1, "pendulum_10": r2, "startup": r3}, args.quick)
+    path = C.write_json("native", {"machine": machine, "pendulum_1dof": r1, "pendulum_10": r2, "startup": r3},
+                        args.quick)
     print(f"wrote {path}")
 
 
