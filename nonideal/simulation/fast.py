@@ -18,12 +18,17 @@ before or on the disk cache, so a run is reproducible bit for bit.
 
 from __future__ import annotations
 
+import os
+import signal
+import threading
+from contextlib import contextmanager
+
 import numpy as np
 
 from ..modes.motion import Motion
 from ..modes.types import Mode
 
-__all__ = ["NATIVE_STEPS", "NATIVE_CHUNK", "FastPhases"]
+__all__ = ["NATIVE_STEPS", "NATIVE_CHUNK", "FastPhases", "deferred_signals"]
 
 NATIVE_STEPS = 1000
 """Accepted steps of one phase after which it continues natively (with ``native=None``): the
@@ -31,8 +36,9 @@ phase has then cost ~0.1-0.5 s in Python, about what loading the native kernel c
 time in a process (compiling it the first time ever: 2-4 s for a 10-link pendulum, then read
 from the disk cache in ~0.1 s)."""
 
-NATIVE_CHUNK = 50_000
-"""Steps of one native call; between two, the run's step and time budget is checked."""
+NATIVE_CHUNK = 20_000
+"""Steps of one native call; between two, the run's step and time budget is checked and
+Ctrl-C takes effect (:func:`deferred_signals`)."""
 
 
 class FastPhases:
@@ -68,7 +74,8 @@ class FastPhases:
             else:
                 from ..numeric.native import native_of
 
-                self._native = native_of(self.sim.kernel) or False
+                with deferred_signals():  # numba compiling: not interruptible cleanly
+                    self._native = native_of(self.sim.kernel) or False
         return self._native
 
     def _system(self, mode: Mode):
@@ -154,9 +161,10 @@ class FastPhases:
         # the hybrid loop's watch of collapsing steps: the first such step returns to it
         tiny = 1e-9 * min(t_end - budget.t0, 1.0)
         while True:
-            status, t, y, f, h_abs, T, Y, DY, count, nt, steps = nat.integrator.phase(
-                nat.kernel, t, y, f, h_abs, float(t_end), float(ode.rtol), atol, float(ode.max_step),
-                w, ix, grid, nt, NATIVE_CHUNK, tiny + 4e-16 * abs(t_end))
+            with deferred_signals():
+                status, t, y, f, h_abs, T, Y, DY, count, nt, steps = nat.integrator.phase(
+                    nat.kernel, t, y, f, h_abs, float(t_end), float(ode.rtol), atol, float(ode.max_step),
+                    w, ix, grid, nt, NATIVE_CHUNK, tiny + 4e-16 * abs(t_end))
             for k in range(count):  # without rows, the derivative holds the whole motion
                 motion = Motion.solved(solver, mode, T[k], Y[k], DY[k, n:2 * n]) if plain else None
                 emit(T[k], Y[k], mode, motion, times is None)
@@ -166,3 +174,33 @@ class FastPhases:
         if status != 0:
             self._failed.add(mode.structure)
         return t, y, (nt if times is not None else next_time), status == 0
+
+
+@contextmanager
+def deferred_signals():
+    """Ctrl-C (SIGINT) and SIGTERM received while native code runs or compiles take effect when
+    it returns (within one chunk of :data:`NATIVE_CHUNK` steps, or once the compilation is
+    done): a Python exception raised by a signal inside numba's call would come back as a
+    ``SystemError`` ("returned a result with an exception set") or end the process by the
+    signal.  The handlers in place before (the command line's: exit 130 / 143) then run."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list = []
+    old = {}
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        handler = signal.getsignal(sig)
+        if handler is not None:
+            old[sig] = handler
+            signal.signal(sig, lambda signum, frame: received.append((signum, frame)))
+    try:
+        yield
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+    for signum, frame in received[:1]:
+        handler = old[signum]
+        if callable(handler):
+            handler(signum, frame)  # Python's default raises KeyboardInterrupt
+        elif handler == signal.SIG_DFL:
+            os.kill(os.getpid(), signum)

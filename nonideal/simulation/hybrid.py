@@ -547,7 +547,7 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
     **options
         ``parameters``, ``rtol``, ``atol``, ``method``, ``max_step``, ``independent``,
         ``initial``, ``detect_jam``, ``specialize``, ``max_samples`` (step samples kept, default
-        100000; beyond, the step output is thinned -- ``diagnostics["output_stride"]`` --
+        5000; beyond, the step output is thinned -- ``diagnostics["output_stride"]`` --
         events and requested times are always kept; ``None`` keeps every step), ``native``
         (numba for the phases it computes, :mod:`nonideal.simulation.fast`: None -- the
         default -- after a phase's first 1000 steps, True at once, False never).

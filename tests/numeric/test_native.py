@@ -173,3 +173,16 @@ def test_checked_expressions_keep_their_meaning():
     value = eval(out, {"math": math, "_sign": lambda v: math.copysign(1.0, v) if v else 0.0},  # noqa: S307
                  {"a0": -0.5, "a1": 2.0})
     assert value == pytest.approx((1 / 3) * 0.25 + math.sqrt(2) + 0.5 + math.atan2(-0.5, 2) + math.pi + 1)
+
+
+def test_a_signal_during_native_code_takes_effect_after_it():
+    import os
+    import signal
+
+    done = []
+    with pytest.raises(KeyboardInterrupt):
+        with fast.deferred_signals():
+            os.kill(os.getpid(), signal.SIGINT)
+            done.append(True)  # not interrupted inside
+    assert done == [True]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
