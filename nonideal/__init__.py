@@ -19,6 +19,7 @@ __version__ = "0.1.0"
 _EXPORTS = {
     "Force": "modeling.bodies", "Particle": "modeling.bodies", "PlanarBody": "modeling.bodies",
     "RigidBody": "modeling.bodies", "Torque": "modeling.bodies",
+    "Frame": "modeling.frames", "Point": "modeling.points",
     "Contact": "modeling.contacts", "Coulomb": "modeling.contacts", "IdealRolling": "modeling.contacts",
     "LinearizedCoulomb": "modeling.contacts", "Newton": "modeling.contacts",
     "Plastic": "modeling.contacts", "RegularizedCoulomb": "modeling.contacts",
@@ -38,7 +39,7 @@ _EXPORTS = {
 
 __all__ = [
     "Model", "Parameter", "Constraint", "SimulationSettings", "model_from_mechanics",
-    "Particle", "PlanarBody", "RigidBody", "Force", "Torque",
+    "Particle", "PlanarBody", "RigidBody", "Force", "Torque", "Frame", "Point",
     "Contact", "Coulomb", "IdealRolling", "RegularizedCoulomb", "LinearizedCoulomb", "Plastic", "Newton",
     "EquationsOfMotion", "FORMS", "derive", "evaluate", "simulate", "load_model", "Simulation", "Trajectory",
     "NonidealError", "ModelError", "MechanicsError", "PainleveParadox", "IndeterminateSystem",
@@ -70,7 +71,9 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
     from .modeling.bodies import Force, Particle, PlanarBody, RigidBody, Torque
     from .modeling.contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton,
                                     Plastic, RegularizedCoulomb)
+    from .modeling.frames import Frame
     from .modeling.mechanics import model_from_mechanics
+    from .modeling.points import Point
     from .modeling.model import Constraint, Model, Parameter, SimulationSettings
     from .modeling.modelfile import load_model
     from .simulation.hybrid import Simulation, simulate

@@ -8,7 +8,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-__all__ = ["plot_trajectory", "mode_colors", "angle_coordinates"]
+__all__ = ["plot_trajectory", "mode_colors", "angle_coordinates", "mode_intervals"]
 
 #: colours of the contact states in the mode timeline ("(N<0)" labels take their state's colour)
 PALETTE = {"separated": "#dddddd", "stick": "#2a9d8f", "slide+": "#e76f51", "slide-": "#f4a261",
@@ -164,7 +164,8 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
     if controls:
         ax = axes[k + 3]
         for name, c in controls.items():
-            ax.plot(t, c["force"], label=f"u {name}")
+            if "force" in c:        # a program realized by shared controls has none
+                ax.plot(t, c["force"], label=f"u {name}")
         ax.set_ylabel("control force\n(model units)")
         ax2 = ax.twinx()
         for name, c in controls.items():
@@ -177,13 +178,9 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
         names = list(traj.contacts)
         colors = mode_colors(traj)
         for j, name in enumerate(names):
-            modes = traj.contacts[name]["mode"]
-            start = 0
-            for i in range(1, len(t) + 1):
-                if i == len(t) or modes[i] != modes[start]:
-                    ax.barh(j, t[min(i, len(t) - 1)] - t[start], left=t[start],
-                            color=colors[modes[start].replace("(N<0)", "")], edgecolor="none")
-                    start = i
+            for left, right, mode in mode_intervals(traj, name):
+                ax.barh(j, right - left, left=left, color=colors[mode.replace("(N<0)", "")],
+                        edgecolor="none")
         ax.set_yticks(range(len(names)), names)
         handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in colors.values()]
         ax.legend(handles, list(colors), fontsize=7, ncol=len(colors), loc="lower left",
@@ -198,6 +195,27 @@ def plot_trajectory(traj, path, title: str | None = None, model=None) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=110, format="png")
     plt.close(fig)
+
+
+def mode_intervals(traj, name: str) -> list[tuple[float, float, str]]:
+    """``(start, end, mode)`` of contact *name* over the run: a change of mode between two
+    samples is put at the instant of the event between them (the last such), not at a sample.
+    """
+    t = np.asarray(traj.t, dtype=float)
+    modes = traj.contacts[name]["mode"]
+    if not len(t):
+        return []
+    events = sorted(float(e["t"]) for e in traj.events)
+    out, start, left = [], 0, float(t[0])
+    for i in range(1, len(t) + 1):
+        if i == len(t):
+            out.append((left, float(t[-1]), modes[start]))
+        elif modes[i] != modes[start]:
+            inside = [te for te in events if t[i - 1] < te <= t[i]]
+            switch = inside[-1] if inside else float(t[i])
+            out.append((left, switch, modes[start]))
+            start, left = i, switch
+    return out
 
 
 #: the quantity a sweep plots when none is named, by command
@@ -387,9 +405,13 @@ def _geometry(model):
 def animate_trajectory(traj, model, path, frames: int = 80, fps: int = 20) -> None:
     """Write an animation of the motion (``.gif`` with Pillow, ``.mp4`` with ffmpeg): the
     bodies drawn from the model's geometry (:func:`_geometry`), the contacts listed with their
-    mode coloured as in the plot's timeline, the time in the title."""
+    mode coloured as in the plot's timeline, the time in the title.  A model with contacts from
+    geometry is drawn in 3-D (:func:`_animate_3d`: its shapes, the planes they touch and the
+    path of each contact point); ``.png`` writes the last frame only."""
     from matplotlib import animation
 
+    if any(c.geometry is not None for c in model.contacts):
+        return _animate_3d(traj, model, path, frames, fps)
     shapes = _geometry(model)
     if not shapes:
         from .errors import ModelError
@@ -443,8 +465,130 @@ def animate_trajectory(traj, model, path, frames: int = 80, fps: int = 20) -> No
         title.set_text(f"{traj.model}   t = {traj.t[k]:.3f}")
         return [*artists, *labels, title]
 
-    anim = animation.FuncAnimation(fig, update, frames=len(idx), blit=False)
     suffix = str(path).rsplit(".", 1)[-1].lower()
+    if suffix == "png":
+        update(len(idx) - 1)
+        fig.savefig(path)
+        plt.close(fig)
+        return
+    anim = animation.FuncAnimation(fig, update, frames=len(idx), blit=False)
     writer = animation.PillowWriter(fps=fps) if suffix == "gif" else animation.FFMpegWriter(fps=fps)
     anim.save(str(path), writer=writer)
+    plt.close(fig)
+
+
+def _surface_points(shape, values, n_grid: int = 24):
+    """Points of a shape in its own axes about its centre (*values*: the parameters' numbers by
+    symbol): ``(X, Y, Z)`` grids for a surface, ``None, polygon`` for a disk, ``None, None`` for
+    a point."""
+    import sympy as sp
+
+    num = lambda e: float(sp.sympify(e).xreplace(values))
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, n_grid), np.linspace(0, np.pi, n_grid // 2))
+    kind = shape.TYPE
+    if kind in ("sphere", "ellipsoid"):
+        a, b, c = [num(shape.radius)] * 3 if kind == "sphere" else [num(x) for x in shape.semi_axes]
+        return a * np.cos(u) * np.sin(v), b * np.sin(u) * np.sin(v), c * np.cos(v)
+    if kind == "paraboloid":
+        a, b = (num(x) for x in shape.curvature_radii)
+        H = max(2 * abs(num((shape.center or (0, 0, 0))[2])), 0.05 * min(a, b))
+        s = np.sqrt(H) * v / np.pi
+        return np.sqrt(2 * a) * s * np.cos(u), np.sqrt(2 * b) * s * np.sin(u), s ** 2
+    if kind == "disk":
+        ax = np.array([num(x) for x in shape.axis])
+        ax /= np.linalg.norm(ax)
+        e1 = np.cross(ax, [1.0, 0.0, 0.0] if abs(ax[0]) < 0.9 else [0.0, 1.0, 0.0])
+        e1 /= np.linalg.norm(e1)
+        th = np.linspace(0, 2 * np.pi, 2 * n_grid)
+        return None, num(shape.radius) * (np.outer(np.cos(th), e1) + np.outer(np.sin(th), np.cross(ax, e1)))
+    return None, None
+
+
+def _animate_3d(traj, model, path, frames: int, fps: int) -> None:
+    """The 3-D animation of a model with contacts from geometry (see :func:`animate_trajectory`)."""
+    import sympy as sp
+    from matplotlib import animation
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    q = [sp.Symbol(c) for c in model.coordinates]
+    params = [sp.Symbol(p) for p in model.parameter_values]
+    p = list(model.parameter_values.values())
+    t = sp.Symbol("t")
+    bodies = {b.name: b for b in model.bodies}
+    drawn = []
+    for c in model.contacts:
+        if c.geometry is None:
+            continue
+        b = bodies[c.body]
+        f_R = sp.lambdify([t, q, params], sp.Matrix(b.rotation), "numpy")
+        f_G = sp.lambdify([t, q, params], list(b.position), "numpy")
+        f_P = sp.lambdify([t, q, params], list(c.geometry.support), "numpy")
+        offset = np.array([float(sp.sympify(x).xreplace(dict(zip(params, p)))) for x in c.shape.offset])
+        plane = [np.array([float(sp.sympify(x).xreplace(dict(zip(params, p)))) for x in v])
+                 for v in (c.geometry.normal, *c.geometry.tangents, sp.Matrix(c.surface.point))]
+        drawn.append((c, f_R, f_G, f_P, offset, plane, _surface_points(c.shape, dict(zip(params, p)))))
+    idx = np.unique(np.linspace(0, len(traj.t) - 1, min(frames, len(traj.t))).round().astype(int))
+    if str(path).lower().endswith(".png"):
+        idx = idx[-1:]
+    contact_paths = [np.array([np.asarray(f_P(traj.t[k], traj.q[k], p), float).ravel() for k in range(len(traj.t))])
+                     for _, _, _, f_P, _, _, _ in drawn]
+    centres = np.array([np.asarray(f_G(tk, qk, p), float).ravel() for tk, qk in zip(traj.t, traj.q)
+                        for _, _, f_G, _, _, _, _ in drawn])
+    moved = np.vstack([centres, *contact_paths])
+    extent = max((np.max(np.abs(g[1])) if g[0] is None else max(np.max(np.abs(x)) for x in g))
+                 for *_, g in drawn if g[1] is not None) if any(g[1] is not None for *_, g in drawn) else 0.0
+    mid = 0.5 * (moved.max(axis=0) + moved.min(axis=0))
+    half = 0.6 * max(np.ptp(moved, axis=0).max() + 2 * extent, 1e-6)
+    grids = [g for *_, g in drawn]
+    zlim = (moved[:, 2].min() - 0.3 * extent, max(moved[:, 2].max() + 1.3 * extent, moved[:, 2].min() + 0.2 * half))
+    fig = plt.figure(figsize=(6.4, 5.6))
+    ax = fig.add_subplot(projection="3d")
+    ax.view_init(elev=24, azim=-125)
+    colors = mode_colors(traj) if traj.contacts else {}
+
+    def update(i):
+        k = idx[i]
+        ax.cla()
+        ax.view_init(elev=24, azim=-125)
+        for j, (c, f_R, f_G, f_P, offset, (n, t1, t2, p0), (X, Y, *_)) in enumerate(drawn):
+            R = np.asarray(f_R(traj.t[k], traj.q[k], p), float)
+            O = np.asarray(f_G(traj.t[k], traj.q[k], p), float).ravel() + R @ offset
+            # the plane: a square around the motion, in its own tangent axes
+            s = np.linspace(-half, half, 2)
+            S1, S2 = np.meshgrid(s, s)
+            base = p0 + ((mid - p0) - ((mid - p0) @ n) * n)
+            ax.plot_surface(*(base[d] + S1 * t1[d] + S2 * t2[d] for d in range(3)), color="0.85", alpha=0.5)
+            if c.shape.TYPE == "disk":
+                poly = O + Y @ R.T
+                ax.add_collection3d(Poly3DCollection([poly], facecolor="tab:orange", edgecolor="k", alpha=0.8))
+                ax.plot(*np.vstack([O, poly[0]]).T, color="k", lw=1)     # a radius, to see it turn
+            elif Y is not None:
+                P = np.einsum("ij,abj->abi", R, np.stack(grids[j], axis=-1)) + O
+                ax.plot_surface(P[..., 0], P[..., 1], P[..., 2], color="tab:blue", alpha=0.55, edgecolor="k", lw=0.2)
+                if c.shape.TYPE == "paraboloid":      # the deck closing the bowl
+                    ax.add_collection3d(Poly3DCollection([P[-1]], facecolor="tab:cyan", edgecolor="k", alpha=0.7))
+            else:
+                ax.scatter(*O, color="tab:blue")
+            ax.plot(*contact_paths[j][: k + 1].T, color="tab:red", lw=1.2)
+            mode = c.name + ":" + traj.contacts[c.name]["mode"][k].replace("(N<0)", "")
+            ax.text2D(0.02, 0.95 - 0.05 * j, f"contact {mode}", transform=ax.transAxes, fontsize=9,
+                      bbox=dict(boxstyle="round", fc=colors.get(mode, "white"), ec="0.6"))
+        ax.set_xlim(mid[0] - half, mid[0] + half)
+        ax.set_ylim(mid[1] - half, mid[1] + half)
+        ax.set_zlim(*zlim)
+        ax.set_box_aspect((1, 1, (zlim[1] - zlim[0]) / (2 * half)))
+        ax.set_xlabel("x")
+        ax.set_ylabel("y")
+        ax.set_zlabel("z")
+        ax.set_title(f"{traj.model}   t = {traj.t[k]:.3f}")
+        return []
+
+    if str(path).lower().endswith(".png"):
+        update(0)
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        return
+    anim = animation.FuncAnimation(fig, update, frames=len(idx), blit=False)
+    suffix = str(path).rsplit(".", 1)[-1].lower()
+    anim.save(str(path), writer=animation.PillowWriter(fps=fps) if suffix == "gif" else animation.FFMpegWriter(fps=fps))
     plt.close(fig)

@@ -19,6 +19,7 @@ from ..modeling.symbols import to_sp
 from ..modes.diagnosis import diagnose_state
 from ..modes.solver import ModeSolver
 from ..modes.switching import select_mode
+from ..modeling.normalize_kinematics import describe as describe_kinematics
 from ..numeric.kernel import kernel_of, parameter_vector
 from .contact.statics import servo_equilibrium
 
@@ -39,6 +40,7 @@ class CheckReport:
     initial_mode: str
     notes: list[str] = field(default_factory=list)
     equilibrium: dict[str, Any] | None = None   # servo-constraints, initial state at rest
+    kinematics: list[str] = field(default_factory=list)   # one line per declared frame and point
 
     def to_dict(self) -> dict[str, Any]:
         out = {
@@ -50,12 +52,15 @@ class CheckReport:
         }
         if self.equilibrium is not None:
             out["servo_equilibrium"] = self.equilibrium
+        if self.kinematics:
+            out["frames_and_points"] = self.kinematics
         return out
 
     def as_text(self) -> str:
         c = self.counts
         lines = [f"{self.model}  ({self.source})",
                  f"  coordinates ({c['n_q']}): {', '.join(self.coordinates)}",
+                 *[f"  {line}" for line in self.kinematics],
                  f"  constraints: {c['holonomic']} holonomic, {c['nonholonomic']} nonholonomic"
                  f" (first order), {c['second_order']} second order, {c['unilateral']} unilateral,"
                  f" {c['servo']} servo/quasi-ideal",
@@ -164,7 +169,8 @@ def check_model(model: Model) -> CheckReport:
             entry.update(friction.get(entry["name"], {}))
         determinacy = _with_friction(determinacy, friction)
     return CheckReport(model.name, model.source, list(model.coordinates), model.parameter_values,
-                       cons, contacts, counts, determinacy, initial, mode.label(), notes, equilibrium)
+                       cons, contacts, counts, determinacy, initial, mode.label(), notes, equilibrium,
+                       describe_kinematics(model.kinematics))
 
 
 def servo_notes(dyn) -> list[str]:

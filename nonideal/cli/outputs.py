@@ -158,8 +158,9 @@ def output_problems(args, model_spec: str) -> list[str]:
     anim = getattr(args, "animate", None)
     if anim:
         suffix = Path(anim).suffix.lower()
-        if suffix not in (".gif", ".mp4"):
-            problems.append(f"--animate {anim}: write a .gif (or an .mp4, with ffmpeg installed)")
+        if suffix not in (".gif", ".mp4", ".png"):
+            problems.append(f"--animate {anim}: write a .gif (or an .mp4, with ffmpeg installed; "
+                            "a .png holds the last frame)")
         elif suffix == ".mp4":
             from matplotlib import animation
 

@@ -27,7 +27,8 @@ def add_parser(sub, ctx) -> None:
     s.add_argument("--csv", metavar="OUT", help="write the trajectory as CSV (at --times, else on 601 uniform samples)")
     s.add_argument("--plot", metavar="PNG", help="plot the trajectory, reactions and energy")
     s.add_argument("--animate", metavar="GIF", help="animation of the motion (.gif; .mp4 needs "
-                   "ffmpeg): the bodies drawn from the model's geometry, each contact's mode coloured")
+                   "ffmpeg; .png: the last frame): the bodies drawn from the model's geometry (in "
+                   "3-D with the shapes of contacts from geometry), each contact's mode coloured")
     s.set_defaults(func=run)
 
 
@@ -66,24 +67,30 @@ def run(args) -> int:
     except MechanicsError as exc:
         raise explained(model, exc) from None
     outputs = Outputs()
-    fine = traj
-    if (args.csv or args.plot or args.animate) and times is None and len(traj.t) < PLOT_SAMPLES:
-        # the integrator's steps are far apart for a table or a drawing: the same run sampled
-        # on a fine uniform grid (dense output; the events are in the JSON and on the plot)
+    fine = drawn = traj
+    if args.csv and times is None and len(traj.t) < PLOT_SAMPLES:
+        # the integrator's steps are far apart for a table: the same run sampled on a fine
+        # uniform grid (dense output; the events are in the JSON)
         import numpy as np
 
         grid = np.linspace(traj.t[0], traj.t[-1], PLOT_SAMPLES)
         fine = simulate(model, t_end=traj.t[-1], times=grid, form=args.form, **options)
+    if args.plot or args.animate:
+        # a drawing never splines through a few samples (--times): the same run on a fine grid
+        # (dense output) with the events' instants on it, so that a switch and the forces'
+        # jumps are drawn where they happen
+        grid = plot_grid(traj)
+        drawn = simulate(model, t_end=traj.t[-1], times=grid, form=args.form, **options)
     if args.csv:
         outputs.add("--csv", args.csv, fine.to_csv)
     if args.animate:
         from ..plotting import animate_trajectory
 
-        outputs.add("--animate", args.animate, lambda tmp: animate_trajectory(fine, model, tmp))
+        outputs.add("--animate", args.animate, lambda tmp: animate_trajectory(drawn, model, tmp))
     if args.plot:
         from ..plotting import plot_trajectory
 
-        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(fine, tmp, model=model))
+        outputs.add("--plot", args.plot, lambda tmp: plot_trajectory(drawn, tmp, model=model))
     heat = _actuator_heat(model, traj, args.form, options)
     payload = traj.to_dict()
     from ..modeling.units import units_report
@@ -101,6 +108,8 @@ def run(args) -> int:
     if stdout is not None:
         print(stdout)
     elif not args.json:
+        import numpy as np
+
         d = traj.diagnostics
         print(f"{traj.model}: simulated t = {traj.t[0]:g} .. {traj.t[-1]:g} "
               f"({d['samples']} samples, {d['events']} events, form {d['form']}, {d['method']})")
@@ -133,12 +142,43 @@ def run(args) -> int:
                 for label, (lo, hi, shown) in ph["end"].items():
                     print(f"      {label}: shown {number(shown, None, 8)}, admissible from "
                           f"{number(lo, None, 8)} to {number(hi, None, 8)}")
+        for name, c in traj.controls.items():
+            if "force" not in c:    # a program realized by the shared controls
+                continue
+            u = np.asarray(c["force"], dtype=float)
+            extra = "".join(f", {k} = {number(c[k][-1], None, 10)}" for k in sorted(c)
+                            if k.startswith("u_"))
+            print(f"  control {name}: force at t_end = {number(u[-1], float(abs(u).max()), 10)}"
+                  f" (from {number(u.min(), None, 8)} to {number(u.max(), None, 8)}){extra}, "
+                  f"work = {number(c['work'][-1], None, 10)}")
         if heat is not None:
             print(f"  work of the reactions A = {traj.energy['reaction_work'][-1]:.12g}, heat lost in "
                   f"the drives W = {heat['total']:.12g} (Briskin et al. 2021, (3.7))")
         print(f"  constraint residual max = {d['constraint_residual_max']:.3e}, "
               f"energy balance (relative) = {d['energy_balance_relative']:.3e}")
     return 0
+
+
+def plot_grid(traj, samples: int = PLOT_SAMPLES):
+    """The times a run is drawn at: *samples* uniform ones over the run, its own sample times,
+    and each event's instant with one just after it (a force's jump drawn as a jump).
+
+    Returns
+    -------
+    ndarray, strictly increasing
+    """
+    import numpy as np
+
+    t0, t1 = float(traj.t[0]), float(traj.t[-1])
+    span = max(t1 - t0, 1e-300)
+    points = [np.linspace(t0, t1, samples), np.asarray(traj.t, dtype=float)]
+    for e in traj.events:
+        te = float(e["t"])
+        if t0 <= te <= t1:
+            points.append([te, min(t1, te + 1e-9 * span)])
+    grid = np.unique(np.concatenate([np.atleast_1d(p) for p in points]))
+    keep = np.concatenate(([True], np.diff(grid) > 1e-12 * span))
+    return grid[keep]
 
 
 def _actuator_heat(model, traj, form, options) -> dict | None:

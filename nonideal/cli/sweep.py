@@ -8,14 +8,16 @@ rows of an earlier complete output, when it is a JSON) and runs only the missing
 
 from __future__ import annotations
 
+import contextlib
 import json
 import sys
 import time
 from pathlib import Path
 
-from ..errors import ModelError
+from ..errors import ModelError, did_you_mean
 from .common import check_options, form_type, method_type, model_argument, parse_at, parse_overrides, METHODS
 from .outputs import Outputs
+from .terminal import EXIT_INTERRUPTED, EXIT_TERMINATED, Terminated
 
 JOURNAL_SUFFIX = ".journal"
 
@@ -226,9 +228,26 @@ def run(args) -> int:
         journal_file[0].flush()
         progress(row)
 
+    resumed = len(done)
     try:
+        if args.plot and args.quantity:
+            # the plotted column is checked on the first point before the others run (a
+            # mistyped --quantity would fail only after the whole sweep)
+            probe = _check_quantity(args, model_path, axes, settings, options, done)
+            for row in probe:       # journaled once the column is known to be there
+                on_row(row)
+            done = done + probe
         result = sweep(model_path, axes, args.what, settings=settings, options=options,
                        workers=args.workers, scheduler=args.scheduler, done=done, on_row=on_row)
+    except (KeyboardInterrupt, Terminated) as exc:
+        if journal_file:    # the finished points are kept: say how to complete the sweep
+            kind = "interrupted" if isinstance(exc, KeyboardInterrupt) else "terminated"
+            with contextlib.suppress(Exception):
+                print(f"nonideal: sweep {kind} after {progress.done} of {n_points} points; the "
+                      f"finished ones are journaled in {journal}: run the same command with "
+                      "--resume to complete it (no output was written)", file=sys.stderr)
+            return EXIT_INTERRUPTED if kind == "interrupted" else EXIT_TERMINATED
+        raise
     finally:
         for fh in journal_file:
             fh.close()
@@ -247,7 +266,7 @@ def run(args) -> int:
     journal.unlink(missing_ok=True)
     failed = result.failed
     print(f"{result.model}: {args.what} at {len(result.rows)} points "
-          f"({len(result.rows) - len(done) if done else len(result.rows)} run, "
+          f"({len(result.rows) - resumed} run, "
           f"{len(failed)} failed) in {result.elapsed:.3g} s on {result.workers} worker"
           f"{'s' if result.workers > 1 else ''}")
     codes = {}
@@ -258,6 +277,27 @@ def run(args) -> int:
         print(f"  exit {code} at {n} point{'s' if n > 1 else ''}, e.g. {r['parameters']}: "
               f"{r['message'].splitlines()[0]}")
     return 0
+
+
+def _check_quantity(args, model_path, axes, settings, options, done) -> list[dict]:
+    """Run the grid's first point (unless *done* has it) and refuse a ``--quantity`` that is not
+    one of its columns (nothing journaled then); the new row is returned to be reused."""
+    from ..analysis.studies.sweep import Axis, flatten, point_key, sweep
+
+    first = [Axis(a.name, (a.values[0],)) for a in axes]
+    key = point_key({a.name: a.values[0] for a in axes})
+    rows = [r for r in done if point_key(r["parameters"]) == key]
+    new = []
+    if not rows:
+        rows = sweep(model_path, first, args.what, settings=settings, options=options, workers=1).rows
+        new = rows
+    row = rows[0]
+    columns = flatten(row)
+    if row.get("exit_code") == 0 and args.quantity not in columns:
+        names = sorted(columns)
+        raise ModelError(f"--quantity {args.quantity}: not a column of this sweep"
+                         f"{did_you_mean(args.quantity, names)}; columns: {', '.join(names)}")
+    return new
 
 
 def _model_name(args) -> str:

@@ -31,6 +31,7 @@ from .servo import control_rows, directions_dependent, reach, root_row, shared_r
 from ..errors import ModelError, SingularSystem
 from ..modeling.model import Constraint, Model
 from ..modeling.symbols import to_se
+from .algebra import count_ops, cross
 
 __all__ = ["Dynamics", "ConstraintRow", "dynamics_of"]
 
@@ -62,10 +63,6 @@ class ConstraintRow:
     order: int
     unilateral: bool
     reaction_kind: str
-
-
-def _cross(a, b):
-    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 
 
 class Dynamics:
@@ -161,13 +158,16 @@ class Dynamics:
         return r, J, v, a0
 
     def _angular(self, body: RigidBody):
-        """Body-frame angular velocity Omega = Jw q' + Omega_t and its derivative part."""
+        """Body-frame angular velocity Omega = Jw q' + Omega_t (its frame's, if given) and its derivative part."""
         R = [[to_se(x) for x in row] for row in body.rotation]
-        Rdot = [[self.dt(x, with_acceleration=False) for x in row] for row in R]
-        # W = R^T Rdot (skew); Omega = (W21, W02, W10)
-        def w(i, j):
-            return sum((R[k][i] * Rdot[k][j] for k in range(3)), se.Integer(0))
-        omega = [se.expand(w(2, 1)), se.expand(w(0, 2)), se.expand(w(1, 0))]
+        if body.omega is not None:
+            omega = [to_se(x) for x in body.omega]
+        else:
+            Rdot = [[self.dt(x, with_acceleration=False) for x in row] for row in R]
+
+            def w(i, j):   # W = R^T Rdot (skew); Omega = (W21, W02, W10)
+                return sum((R[k][i] * Rdot[k][j] for k in range(3)), se.Integer(0))
+            omega = [se.expand(w(2, 1)), se.expand(w(0, 2)), se.expand(w(1, 0))]
         Jw = self.sparse_jacobian(omega, level=1)
         dom0 = [self.dt(o, with_acceleration=False) for o in omega]
         return R, omega, Jw, dom0
@@ -194,9 +194,15 @@ class Dynamics:
 
     # ------------------------------------------------------------ energies and forces
     @cached_property
+    def kinetic(self):
+        """The model's ``kinetic`` plus the regularization ``c/2 (e . e')^2`` of Euler parameters
+        (zero on their unit sphere; :mod:`nonideal.modeling.kinematics`)."""
+        return to_se(self.model.kinetic) + to_se(self.model.kinematics.regularization(self.model.bodies))
+
+    @cached_property
     def T(self):
         """Kinetic energy (expression plus bodies)."""
-        T = to_se(self.model.kinetic)
+        T = self.kinetic
         for it in self._bodies:
             T += it["m"] * sum((vi * vi for vi in it["v"]), se.Integer(0)) / 2
             b = it["body"]
@@ -277,7 +283,7 @@ class Dynamics:
             if j != i:
                 M[j, i] = M[i, j]
 
-        T = to_se(self.model.kinetic)
+        T = self.kinetic
         if T != 0:
             p = [se.Integer(0)] * n
             for i, d in self.gradient(T, 1).items():
@@ -310,7 +316,7 @@ class Dynamics:
             elif isinstance(b, RigidBody):
                 I, Jw, Om, dOm0 = it["I"], it["Jw"], it["Omega"], it["dOmega0"]
                 IOm = [sum((I[r][c] * Om[c] for c in range(3)), se.Integer(0)) for r in range(3)]
-                gyro = _cross(Om, IOm)
+                gyro = cross(Om, IOm)
                 eul = [sum((I[r][c] * dOm0[c] for c in range(3)), se.Integer(0)) + gyro[r] for r in range(3)]
                 turning = sorted(set().union(*Jw))
                 for a, i in enumerate(turning):
@@ -349,7 +355,7 @@ class Dynamics:
         """Acceleration energy (up to terms without accelerations)."""
         n = self.n
         S = se.Integer(0)
-        T = to_se(self.model.kinetic)
+        T = self.kinetic
         if T != 0:
             p = [se.diff(T, v) for v in self.qd]
             for i in range(n):
@@ -370,7 +376,7 @@ class Dynamics:
                 eps = [sum((d * self.qdd[k] for k, d in Jw[r].items()), se.Integer(0)) + dOm0[r] for r in range(3)]
                 Ieps = [sum((I[r][c] * eps[c] for c in range(3)), se.Integer(0)) for r in range(3)]
                 IOm = [sum((I[r][c] * Om[c] for c in range(3)), se.Integer(0)) for r in range(3)]
-                gyro = _cross(Om, IOm)
+                gyro = cross(Om, IOm)
                 S += sum((eps[r] * Ieps[r] for r in range(3)), se.Integer(0)) / 2
                 S += sum((eps[r] * gyro[r] for r in range(3)), se.Integer(0))
         return S
@@ -589,11 +595,3 @@ def _source(model: Model) -> str | None:
 def dynamics_of(model: Model) -> Dynamics:
     """The (cached) symbolic dynamics of *model*.  Models are immutable, so caching is safe."""
     return model.cached("dynamics", lambda: Dynamics(model))
-
-
-def count_ops(exprs) -> int:
-    """Total operation count of SymEngine expressions (used by the size guard)."""
-    total = 0
-    for e in exprs:
-        total += se.count_ops(e) if hasattr(se, "count_ops") else len(str(e))
-    return total

@@ -18,7 +18,11 @@ and about phi = 0 (x_C ignorable, x_C' drifting: the body is accelerated along t
 
     delta phi'' + k delta phi = 0,      k = c F l / (J + M c l^2).
 
-Misprints of the printed formulas: in (3.24) the denominator is printed with
+Misprints of the printed formulas: (3.22) prints the y-equation as
+``M y_C'' = F sin(phi) - lambda/(1 - alpha beta)``; by (3.21) ``R_y = lambda/(1 - alpha beta)``
+(``R_x = -alpha lambda/(1 - alpha beta)``, which the x-equation adds correctly), so it is
+``M y_C'' = F sin(phi) + lambda/(1 - alpha beta)`` -- the sign the printed (3.24) itself follows
+from (with the minus, (3.23) would give the denominator ``-J + M c l^2 cos^2(phi)``).  In (3.24) the denominator is printed with
 ``cos(phi) sin(phi)`` (it is cos^2(phi)), the numerator with ``phi'^2 cos(phi) sin(phi)``
 (it is phi'^2 sin(phi)) and the second equation without the factor l cos(phi); the variational
 equation (3.25) is printed as ``J delta phi'' + (1 - alpha beta) F l delta phi = 0``, without

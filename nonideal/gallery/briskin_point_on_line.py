@@ -44,7 +44,12 @@ reaction is optimal (``A = 0`` and the least heat); with unequal losses it is no
 Singular transforms.  At ``D = 0`` the reaction's direction lies along the line and cannot
 hold the point.  At ``alpha beta = 1`` the transform itself is singular: (3.5) still has a
 limit there (``lambda = 0`` and ``R`` in the null space of ``A``), but ``R = A^-1 grad f
-lambda`` does not exist, and the library stops with exit code 3 naming the transform.  On the
+lambda`` does not exist.  By the definition (1.3), ``A R = lambda grad f``, the motion is still
+well posed when ``grad f`` is not in the range of ``A``: the reaction is along
+``adj(A) grad f`` with ``lambda = 0`` (at ``alpha = -0.5, beta = -2``: ``R = 0.4 G (1, 2) =
+(3.924, 7.848)``).  The library computes quasi-ideal constraints through ``A^-1``: it stops
+with exit code 3 and says this (the direction ``adj(A) grad f``, or that the reaction is not
+fixed when ``adj(A) grad f = 0``).  On the
 grid of figs. 2-4 (``k = 0.5``) these are ``alpha = 0.5, beta = 2`` (both at once) and
 ``alpha = -0.5, beta = -2``; the sweep records them and goes on.
 """

@@ -54,9 +54,13 @@ paper's own intermediate equations (``J1 w1' = M1 - F1 rho``, ``J w' = r (F1 + F
 
     -(J w0 / r + a r w0 J1 / rho^3) rho' = r (M2/(a - rho) + M1/rho);
 
-the printed result has ``+`` on the left (the sign of ``J w' = -J w0 rho'/r`` is lost), prints
-``J w0 / 2`` for ``J w0 / r`` in the line before, and drops the factor r of the J1 term inside
-the bracket.  With positive torques the wheel moves towards shaft 1 (``rho' < 0``), which the
+the printed result has ``+`` on the left.  The slips are in the line before it,
+``(J w0 / r) rho' = r (M2/(a - rho) + M1/rho - w0 a J1 rho'/rho^3)``: the minus of
+``J w' = -J w0 rho'/r`` is lost on the left (and ``J w0 / 2`` is printed for ``J w0 / r`` the
+line above), and the J1 term inside the bracket has the wrong sign -- ``F1 = M1/rho +
+w0 a J1 rho'/rho^3``, printed correctly just above, enters ``r (F1 + F2)`` with ``+``.  The
+factor r of the J1 term is there (``a r J1`` in the result, the r outside the bracket before
+it); the two sign slips together give the printed result.  With positive torques the wheel moves towards shaft 1 (``rho' < 0``), which the
 library's simulation confirms (it derives the condition of dynamics itself); the transverse
 friction then acts along ``+rho``: ``m rho'' = u + f (N1 + N2)`` as printed.  ``run`` checks the
 simulated rho(t) against an independent integration of this scalar equation and u against

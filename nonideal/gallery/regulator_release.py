@@ -29,6 +29,22 @@ equation, u1 = -B^T P x.  The printed (3.35) omits the cross term zeta rho' whos
 C13 appears in (3.36), and (3.36) has further index and sign misprints; the library integrates
 the Riccati equation itself (``program_lqr``).
 
+Misprints (derived here; the test of this example checks the numbers):
+
+* (3.26) prints ``m rho'' = F1 + F2 + u + u1``; the generalized force written just above it,
+  ``Q_rho = -(F11 + F22) + u + u1``, and (3.27) have the transverse friction against the
+  motion, ``-(F11 + F22)`` (as in (3.3)).
+* (3.34) divides by ``n rho_c^2 + J^2``: it is ``D = n rho0^2 + J2`` (the coefficient of
+  zeta' in (3.29); (3.28)-(3.29) write J3).  ``n1`` is then defined twice, after (3.34) as
+  ``n/(omega rho0^2 + J^2)`` and after (3.36) as ``n/(n rho0^2 + J2)``; dividing (3.29) by D
+  gives the second, ``n1 = n/D``.  (3.34) also writes ``n rho0 n rho0'`` (n once) and
+  ``S1' = (M1 - n omega0 rho0')/D`` for ``(M1/R - n omega0 rho0')/D`` of (3.29).
+* (3.37) prints ``u1 = -(c33 z + c13 xi + c23 rho')``.  With V labelled as in (3.35) -- C22 the
+  coefficient of z^2, C33 that of rho'^2 -- the minimum of the Bellman function,
+  ``dB/du1 = 2 u1 + 2 C22 z + 2 C13 xi + 2 C23 rho' = 0`` (printed just before), gives
+  ``u1 = -(C22 z + C13 xi + C23 rho')``: the feedback on z is the coefficient of z^2 in V
+  (``u1 = -B^T P x``: the row of P of the controlled variable), not of rho'^2.
+
 run() checks the programme against the closed form, A(t) and W(t) against the formulas above,
 and that the optimal feedback turns the growing perturbations of the open loop into decaying
 ones (the characteristic exponents of the fundamental matrices).

@@ -39,14 +39,19 @@ class Particle:
     name : str
     mass : str or sympy.Expr
     position : sequence of 2 or 3 expressions in the coordinates and time
+    point : str, optional
+        Instead of ``position``: a declared point (:class:`~nonideal.modeling.points.Point`);
+        the model fills ``position`` from it.
     """
 
     name: str
     mass: Any
-    position: tuple[Any, ...]
+    position: tuple[Any, ...] | None = None
+    point: str | None = None
 
     def __post_init__(self):
-        object.__setattr__(self, "position", tuple(self.position))
+        if self.position is not None:
+            object.__setattr__(self, "position", tuple(self.position))
 
 
 @dataclass(frozen=True)
@@ -89,18 +94,37 @@ class RigidBody:
         Centre of mass in world axes.
     rotation : 3x3 nested sequence of expressions
         Rotation matrix R (body -> world): world components = R @ body components.
+    frame, center : str, optional
+        Instead of ``position`` and ``rotation``: a declared frame fixed in the body (its
+        inertia is in the frame's axes) and a declared point, the centre of mass.  The model
+        fills ``position``, ``rotation`` and ``omega`` from them.
+    omega : sequence of 3 expressions, optional
+        The angular velocity in the body's axes (filled from ``frame``; otherwise the
+        dynamics derives it from ``rotation``).
+
+    Examples
+    --------
+    >>> RigidBody("top", "m", [["A", 0, 0], [0, "A", 0], [0, 0, "C"]], frame="B", center="G").frame
+    'B'
     """
 
     name: str
     mass: Any
     inertia: tuple[tuple[Any, ...], ...]
-    position: tuple[Any, ...]
-    rotation: tuple[tuple[Any, ...], ...]
+    position: tuple[Any, ...] | None = None
+    rotation: tuple[tuple[Any, ...], ...] | None = None
+    frame: str | None = None
+    center: str | None = None
+    omega: tuple[Any, ...] | None = None
 
     def __post_init__(self):
-        object.__setattr__(self, "position", tuple(self.position))
+        if self.position is not None:
+            object.__setattr__(self, "position", tuple(self.position))
         object.__setattr__(self, "inertia", tuple(tuple(r) for r in self.inertia))
-        object.__setattr__(self, "rotation", tuple(tuple(r) for r in self.rotation))
+        if self.rotation is not None:
+            object.__setattr__(self, "rotation", tuple(tuple(r) for r in self.rotation))
+        if self.omega is not None:
+            object.__setattr__(self, "omega", tuple(self.omega))
 
 
 @dataclass(frozen=True)

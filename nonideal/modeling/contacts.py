@@ -23,7 +23,10 @@ from typing import Any
 
 import sympy as sp
 
+from .values import parameter_values
+
 __all__ = [
+    "normalize_friction",
     "Contact",
     "Coulomb",
     "IdealRolling",
@@ -180,25 +183,92 @@ class Contact:
     ----------
     name : str
     gap : expression in the coordinates and time
-        ``>= 0``; the normal distance (its multiplier is the normal force).
+        ``>= 0``; the normal distance (its multiplier is the normal force).  Not given for a
+        contact from geometry (``body`` and ``shape``).
     slip : sequence of 1 or 2 expressions
-        Tangential slip velocities, linear in the velocities.
+        Tangential slip velocities, linear in the velocities (not given with ``shape``).
     friction : Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb
         ``Coulomb(math.inf)`` (or ``Coulomb("inf")``) is read as :class:`IdealRolling`.
     impact : Plastic or Newton
     bilateral : bool
         The gap is held at zero by a two-sided guide (no separation; friction uses ``|N|``).
+    body : str, optional
+        A contact from geometry: the name of the rigid body carrying ``shape``.
+    shape : Shape or mapping, optional
+        :class:`~nonideal.modeling.shapes.Sphere`, ``Ellipsoid``, ``Paraboloid``, ``Disk``,
+        ``Point`` or a mapping as in a model file (``{"type": "sphere", "radius": "r"}``); the
+        library derives the gap and the two slip components
+        (:func:`~nonideal.modeling.shapes.contact_geometry`).
+    surface : Plane or mapping, optional
+        The plane touched (default: z = 0 of N, normal +z).
+
+    After normalization a contact from geometry carries ``geometry``
+    (:class:`~nonideal.modeling.shapes.ContactGeometry`: normal, support point, angular
+    velocities) besides the derived ``gap`` and ``slip``.
+
+    Examples
+    --------
+    >>> Contact("floor", body="ball", shape={"type": "sphere", "radius": "r"}, friction=Coulomb("mu")).slip
+    ()
     """
 
     name: str
-    gap: Any
-    slip: tuple[Any, ...]
+    gap: Any = None
+    slip: tuple[Any, ...] = ()
     friction: Any = field(default_factory=lambda: Coulomb(0))
     impact: Any = field(default_factory=Plastic)
     bilateral: bool = False
+    body: str | None = None
+    shape: Any = None
+    surface: Any = None
+    geometry: Any = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
-        slip = self.slip
+        slip = () if self.slip is None else self.slip
         if isinstance(slip, (str, int, float)) or not hasattr(slip, "__iter__"):
             slip = (slip,)
         object.__setattr__(self, "slip", tuple(slip))
+
+
+def normalize_friction(norm, law: Any, where: str):
+    """The friction law of a contact with its coefficients parsed and checked (None after a
+    problem, appended to ``norm.problems``); *norm* is the model's Normalizer."""
+
+    pvals = parameter_values(norm.m.parameters)
+
+    def coefficient(value: Any, key: str):
+        e = norm.expr(value, f"{where}: {key}", 0)
+        if e is None:
+            return None
+        if not e.free_symbols & set(norm.m.q):
+            v = e.xreplace(pvals)
+            if v.is_number and float(v) < 0:
+                norm.problems.append(f"{where}: {key} = {float(v):g} is negative; a friction "
+                                     "coefficient is >= 0")
+                return None
+        return e
+
+    law, problem = read_infinite(law, where)  # mu = inf: ideal rolling, or a problem
+    if problem or isinstance(law, IdealRolling):
+        norm.problems += [problem] if problem else []
+        return None if problem else law
+    if isinstance(law, Coulomb):
+        mu = coefficient(law.mu, "mu")
+        # mu_static defaults to mu: a problem of mu is not reported again under a key the
+        # user did not write
+        mus = coefficient(law.mu_static, "mu_static") if law.mu_static is not None else mu
+        if mu is None or mus is None:
+            return None
+        return Coulomb(mu, mus)
+    if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)):
+        mu = coefficient(law.mu, "mu")
+        if mu is None:
+            return None
+        if not float(law.eps) > 0:
+            norm.problems.append(f"{where}: eps must be > 0 (got {law.eps})")
+            return None
+        return type(law)(mu, float(law.eps))
+    norm.problems.append(
+        f"{where}: friction must be Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb"
+    )
+    return None

@@ -26,12 +26,18 @@ SPLIT_RULES = ("widest-margin", "least-norm")
 
 @dataclass(frozen=True)
 class Parameter:
-    """A named constant: value in SI units, optional unit and description."""
+    """A named constant: value in SI units, optional unit and description.
+
+    ``definition`` is the expression (text) a derived parameter was given by, in the other
+    parameters (``A = "m*r^2/4"``), ``""`` for a number; ``value`` is its value.  Analyses in
+    symbolic parameters substitute it (``stability --symbolic r`` carries ``A`` as ``m*r^2/4``).
+    """
 
     name: str
     value: float
     unit: str = ""
     description: str = ""
+    definition: str = ""
 
 
 @dataclass(frozen=True)

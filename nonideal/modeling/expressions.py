@@ -14,9 +14,18 @@ Grammar (the precedence of Python/SymPy: ``-x^2 = -(x^2)``, ``2^3^2 = 2^9``)::
     term   := unary (("*" | "/") unary)*
     unary  := ("+" | "-")* power
     power  := atom (("^" | "**") unary)?
-    atom   := NUMBER | NAME | NAME "(" expr ("," expr)* ")" | "(" expr ")"
+    atom   := NUMBER | NAME | NAME "(" expr ("," expr)* ")" | "(" expr ")" | FRAME "." AXIS
     NAME   := [A-Za-z_][A-Za-z_0-9]* followed by up to two primes (x' and x''; three,
               x''', where the names allow it: a constraint's expr)
+
+With the model's kinematics (``vectors``, a :class:`~nonideal.modeling.kinematics.Kinematics`)
+a subexpression may be a vector (:class:`~nonideal.modeling.vectors.Vector`, three components
+in N): the unit vectors ``B.x``, ``B.y``, ``B.z`` of a declared frame and the calls of
+:data:`~nonideal.modeling.vectors.VECTOR_FUNCTIONS` (``omega(B)``, ``vel(P)``, ``dot(a, b)``
+...), whose frame, point and body arguments are names, never expressions.  Vectors add and
+subtract with vectors and multiply or divide by scalars; ``dot``, ``cross`` and ``norm`` are
+the only products.  Whether the whole expression is a scalar or a vector is checked against
+what its key expects (:func:`parse_expression`, :func:`parse_vector`).
 
 Guards keep hostile input cheap: a length limit (:data:`MAX_LENGTH`), a nesting limit
 (:data:`MAX_DEPTH`, parentheses, powers and calls), a limit on exponents
@@ -39,9 +48,11 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..errors import ExpressionError, did_you_mean
+from .floats import MAX_NODES, float_value  # noqa: F401 (re-exported)
+from .vectors import VECTOR_FUNCTIONS, Unknown, Vector, add, cross, dot, norm
 
-__all__ = ["parse_expression", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH", "MAX_DEPTH",
-           "MAX_EXPONENT", "MAX_DIGITS"]
+__all__ = ["parse_expression", "parse_vector", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH", "MAX_DEPTH",
+           "MAX_EXPONENT", "MAX_DIGITS", "float_value", "MAX_NODES"]
 
 MAX_LENGTH = 50_000     # characters of one expression
 MAX_DEPTH = 100         # nested parentheses / powers / calls
@@ -62,6 +73,7 @@ CONSTANTS: Mapping[str, sp.Expr] = {"pi": sp.pi}
 _TOKEN = re.compile(
     r"(?P<ws>\s+)"
     r"|(?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)"
+    r"|(?P<attr>[A-Za-z_][A-Za-z_0-9]*\.[A-Za-z_][A-Za-z_0-9]*)"
     r"|(?P<name>[A-Za-z_][A-Za-z_0-9]*'*)"
     r"|(?P<op>\*\*|[-+*/^(),])"
 )
@@ -95,6 +107,7 @@ def parse_expression(
     text: str | int | float,
     names: Mapping[str, sp.Expr],
     where: str,
+    vectors=None,
 ) -> sp.Expr:
     """Parse *text* into a SymPy expression using only the symbols in *names*.
 
@@ -107,6 +120,9 @@ def parse_expression(
         (``"x'"``, ``"x''"``); ``t`` must be included to allow time.
     where : str
         Where the text comes from, for messages: ``"constraint 'rod': expr"``.
+    vectors : Kinematics, optional
+        The model's frames and points: enables vector subexpressions (the unit vectors
+        ``B.x`` and the vector functions); the result must still be a scalar.
 
     Returns
     -------
@@ -125,6 +141,26 @@ def parse_expression(
     >>> parse_expression("x'^2/2 + sin(x)", {"x": x, "x'": xd}, "energy.kinetic")
     x'**2/2 + sin(x)
     """
+    value = _parse(text, names, where, vectors)
+    if isinstance(value, Vector):
+        raise ExpressionError(f"{where}: the expression is a vector (3 components in N) but a "
+                              "scalar is expected here; take a component, e.g. dot(..., N.x), or "
+                              "the length norm(...)")
+    return value
+
+
+def parse_vector(text: str, names: Mapping[str, sp.Expr], where: str, vectors) -> Vector:
+    """Parse *text* into a :class:`~nonideal.modeling.vectors.Vector` (components in N), as
+    :func:`parse_expression` does scalars; a scalar result is an error naming *where*."""
+    value = _parse(text, names, where, vectors)
+    if not isinstance(value, Vector):
+        raise ExpressionError(f"{where}: the expression is a scalar but a vector is expected here; "
+                              "write it with unit vectors (e.g. F*N.x - m*g*N.z) or vector "
+                              "functions (vel(P), omega(B), ...)")
+    return value
+
+
+def _parse(text, names, where, vectors):
     if isinstance(text, bool):
         raise ExpressionError(f"{where}: expected an expression, got a boolean ({text}); "
                               "write a number or a quoted expression")
@@ -151,7 +187,7 @@ def parse_expression(
     if not text.strip():
         raise ExpressionError(f"{where}: empty expression (write \"0\" for zero)")
     try:
-        parser = _Parser(text, names, where)
+        parser = _Parser(text, names, where, vectors)
         expr = parser.parse()
     except _Fail as exc:
         raise ExpressionError(_malformed(where, text, exc.col, exc.what)) from None
@@ -217,8 +253,8 @@ def _tokenize(text: str) -> list[_Token]:
 
 
 class _Parser:
-    def __init__(self, text: str, names: Mapping[str, sp.Expr], where: str):
-        self.text, self.names, self.where = text, names, where
+    def __init__(self, text: str, names: Mapping[str, sp.Expr], where: str, vectors=None):
+        self.text, self.names, self.where, self.vectors = text, names, where, vectors
         self.tokens = _tokenize(text)
         self.i = 0
         self.depth = 0
@@ -263,18 +299,34 @@ class _Parser:
     def expr(self) -> sp.Expr:
         terms = [self.term()]
         while self.peek().text in ("+", "-"):
-            op = self.next().text
+            op = self.next()
             term = self.term()
-            terms.append(term if op == "+" else -term)
-        return terms[0] if len(terms) == 1 else sp.Add(*terms)
+            if isinstance(term, Vector) != isinstance(terms[0], Vector):
+                raise _Fail(op.col, f"'{op.text}' between a vector and a scalar; add vectors to "
+                                    "vectors (a scalar times a unit vector such as N.x is a vector)")
+            terms.append(term if op.text == "+" else -term)
+        if len(terms) == 1:
+            return terms[0]
+        if isinstance(terms[0], Vector):
+            return add(terms)
+        return sp.Add(*terms)
 
     def term(self) -> sp.Expr:
         factors = [self.unary()]
-        bits = _bits(factors[0])
+        vector = factors[0] if isinstance(factors[0], Vector) else None
+        factors = [] if vector is not None else factors
+        bits = _bits(factors[0]) if factors else 0
         while self.peek().text in ("*", "/"):
             op = self.next()
             col = self.peek().col
             factor = self.unary()
+            if isinstance(factor, Vector):
+                if op.text == "/":
+                    raise _Fail(col, "division by a vector")
+                if vector is not None:
+                    raise _Fail(op.col, "product of two vectors; write dot(a, b) or cross(a, b)")
+                vector = factor
+                continue
             if op.text == "/":
                 if factor == 0:
                     raise _Fail(col, "division by zero")
@@ -283,7 +335,10 @@ class _Parser:
             if bits > MAX_DIGITS * 3.33:  # SymPy multiplies the numbers exactly
                 raise _Fail(col, f"the product's numbers would have more than {MAX_DIGITS} digits")
             factors.append(factor)
-        return factors[0] if len(factors) == 1 else sp.Mul(*factors)
+        scalar = factors[0] if len(factors) == 1 else sp.Mul(*factors)
+        if vector is None:
+            return scalar
+        return vector.scaled(scalar) if factors else vector
 
     def unary(self) -> sp.Expr:
         negative = False
@@ -300,6 +355,9 @@ class _Parser:
             self.enter(op.col)
             exponent = self.unary()
             self.depth -= 1
+            if isinstance(base, Vector) or isinstance(exponent, Vector):
+                raise _Fail(op.col, "a power of a vector; write dot(a, a) for the square of its "
+                                    "length")
             return self.pow(base, exponent, op.col)
         return base
 
@@ -311,6 +369,8 @@ class _Parser:
             if self.peek().text == "(":
                 return self.call(tok)
             return self.name(tok)
+        if tok.kind == "attr":
+            return self.unit(tok)
         if tok.text == "(":
             self.enter(tok.col)
             if self.peek().text == ")":
@@ -370,14 +430,82 @@ class _Parser:
         self.unknown.setdefault(name, tok.col)
         return self.placeholders.setdefault(name, sp.Dummy(name))
 
+    def unit(self, tok: _Token) -> Vector:
+        """``B.x``: a unit vector of a declared frame."""
+        frame, _, axis = tok.text.partition(".")
+        if self.vectors is None:
+            raise _Fail(tok.col + len(frame), "attribute access ('.') is not allowed here (the "
+                                              "unit vectors B.x, B.y, B.z of frames belong to "
+                                              "model expressions)")
+        try:
+            return self.vectors.axis(frame, axis)
+        except Unknown as exc:
+            raise _Fail(tok.col, str(exc)) from None
+
+    def vector_call(self, tok: _Token) -> sp.Expr | Vector:
+        """A call of a vector function: frame, point and body arguments are names."""
+        fname, kinds = tok.text, VECTOR_FUNCTIONS[tok.text]
+        if self.vectors is None:
+            raise _Fail(tok.col, f"{fname}(...) is a vector function of a model's frames and "
+                                 "points; it is not available here")
+        open_ = self.next()
+        self.enter(open_.col)
+        args = []
+        for k, kind in enumerate(kinds):
+            if kind == "vector":
+                arg_col = self.peek().col
+                value = self.expr()
+                if not isinstance(value, Vector):
+                    raise _Fail(arg_col, f"{fname} takes vectors; argument {k + 1} is a scalar")
+                args.append(value)
+            else:
+                name = self.next()
+                if name.kind != "name" or name.text.endswith("'"):
+                    raise _Fail(name.col, f"{fname} takes the name of a {kind} as argument {k + 1}"
+                                          f", e.g. {fname}({'B' if kind == 'frame' else 'P'})")
+                args.append(name.text)
+            sep = self.next()
+            if sep.text == ")" and k + 1 < len(kinds) or sep.text == "," and k + 1 == len(kinds) \
+                    or sep.text not in (",", ")"):
+                if sep.kind == "end":
+                    raise _Fail(open_.col, "'(' is never closed")
+                raise _Fail(sep.col, f"{fname} takes {len(kinds)} argument(s): "
+                                     f"{fname}({', '.join(kinds)})")
+        self.depth -= 1
+        if fname == "dot":
+            return dot(*args)
+        if fname == "cross":
+            return cross(*args)
+        if fname == "norm":
+            return norm(*args)
+        try:
+            value = self.vectors.call(fname, args)
+        except Unknown as exc:
+            raise _Fail(tok.col, str(exc)) from None
+        self.allowed(value, tok)
+        return value
+
+    def allowed(self, value: Vector, tok: _Token) -> None:
+        """A vector function's value may use only the names this expression may use."""
+        known = set(self.names.values())
+        extra = sorted((s.name for s in value.free_symbols if s not in known), key=str)
+        if extra:
+            what = ("accelerations" if any(n.endswith("''") for n in extra) else
+                    "velocities" if any(n.endswith("'") for n in extra) else "symbols")
+            raise _Fail(tok.col, f"{tok.text}(...) contains {what} ({', '.join(extra)}), which are "
+                                 "not allowed here")
+
     def call(self, tok: _Token) -> sp.Expr:
         fname = tok.text
+        if fname in VECTOR_FUNCTIONS:
+            return self.vector_call(tok)
         if fname not in FUNCTIONS:
             if fname in self.names or fname in CONSTANTS:
                 raise _Fail(tok.col, f"'{fname}' is not a function; write {fname}*(...) for a "
                                      "product")
-            raise _Fail(tok.col, f"unknown function '{fname}'{did_you_mean(fname, FUNCTIONS)}; "
-                                 "allowed: " + ", ".join(sorted(FUNCTIONS)))
+            known = list(FUNCTIONS) + (list(VECTOR_FUNCTIONS) if self.vectors is not None else [])
+            raise _Fail(tok.col, f"unknown function '{fname}'{did_you_mean(fname, known)}; "
+                                 "allowed: " + ", ".join(sorted(known)))
         func, arity = FUNCTIONS[fname]
         open_ = self.next()
         self.enter(open_.col)
@@ -397,6 +525,9 @@ class _Parser:
         self.depth -= 1
         if len(args) != arity:
             raise _Fail(tok.col, f"{fname} takes {arity} argument(s), got {len(args)}")
+        if any(isinstance(a, Vector) for a in args):
+            raise _Fail(tok.col, f"{fname} of a vector; {fname} takes scalars (a component is "
+                                 "dot(v, N.x), a length norm(v))")
         try:
             return func(*args)
         except (TypeError, ValueError, AttributeError, ArithmeticError):
@@ -458,119 +589,3 @@ class _Parser:
                 problems.append(f"{self.where}: unknown symbol '{name}'"
                                 f"{did_you_mean(name, candidates)}")
         return ExpressionError(problems, unknown=[(name, self.where) for name in self.unknown])
-
-
-# ====================================================================== numbers from expressions
-
-MAX_NODES = 100_000
-"""Nodes of an expression evaluated to a number (a size check before any arithmetic)."""
-
-_FLOAT_FUNCTIONS = {
-    sp.sin: math.sin, sp.cos: math.cos, sp.tan: math.tan,
-    sp.cot: lambda x: 1.0 / math.tan(x), sp.sec: lambda x: 1.0 / math.cos(x),
-    sp.csc: lambda x: 1.0 / math.sin(x),
-    sp.asin: math.asin, sp.acos: math.acos, sp.atan: math.atan, sp.atan2: math.atan2,
-    sp.sinh: math.sinh, sp.cosh: math.cosh, sp.tanh: math.tanh,
-    sp.exp: math.exp, sp.log: math.log, sp.Abs: abs,
-    sp.sign: lambda x: float((x > 0) - (x < 0)), sp.Min: min, sp.Max: max,
-}
-
-
-def float_value(expr, where: str, values: Mapping[str, float] | None = None,
-                text: str | None = None) -> float:
-    """The value of a SymPy expression with numbers only (or symbols in *values*), computed in
-    double precision -- never by exact or arbitrary-precision arithmetic, whose cost has no
-    bound (``sin(exp(exp(exp(3))))`` would need hundreds of millions of digits of pi; even
-    printing such an expression makes SymPy evaluate it, so messages never print it).
-
-    *text*, the expression as the user wrote it, is quoted in messages.
-
-    Raises
-    ------
-    ExpressionError
-        Naming *where* and the reason: an overflow (``exp(1000)``), a value outside a
-        function's domain (``sqrt(-1)``, ``log(0)``), a division by zero, a non-finite result,
-        an unknown symbol, or an expression too large to evaluate (:data:`MAX_NODES`).
-
-    Examples
-    --------
-    >>> float_value(sp.sin(sp.pi / 6) + sp.Rational(1, 2), "m")
-    1.0
-    """
-    if isinstance(expr, bool):
-        raise ExpressionError(f"{where}: expected a number, got a boolean")
-    if isinstance(expr, numbers.Real) and not isinstance(expr, sp.Basic):
-        try:
-            value = float(expr)
-        except OverflowError:
-            raise ExpressionError(f"{where}: {_short_number(expr)} is too large for a floating-point "
-                                  "number (|x| < 1.8e308)") from None
-    else:
-        expr = sp.sympify(expr) if not isinstance(expr, sp.Basic) else expr
-        budget = [MAX_NODES]
-        shown = f" {_short(text)}" if text else ""  # never str(expr): see above
-        try:
-            value = _float(expr, values or {}, budget)
-        except OverflowError:
-            raise ExpressionError(f"{where}: the expression{shown} overflows: a number in it "
-                                  "exceeds the floating-point range (|x| < 1.8e308)") from None
-        except ZeroDivisionError:
-            raise ExpressionError(f"{where}: the expression{shown} divides by zero") from None
-        except (ValueError, TypeError) as exc:
-            raise ExpressionError(f"{where}: the expression{shown} has no finite real value "
-                                  f"({exc}); check its domain (sqrt, log, asin, acos ...)") from None
-        except _TooLarge:
-            raise ExpressionError(f"{where}: expression with more than {MAX_NODES} operations; "
-                                  "too large to evaluate to a number") from None
-    if not math.isfinite(value):
-        raise ExpressionError(f"{where}: the value is not finite ({value})")
-    return value
-
-
-class _TooLarge(Exception):
-    pass
-
-
-def _short_number(x) -> str:
-    s = str(x)
-    return s if len(s) <= 40 else f"{s[:12]}...{s[-6:]} ({len(s)} digits)"
-
-
-def _float(e: sp.Basic, values: Mapping[str, float], budget: list[int]) -> float:
-    budget[0] -= 1
-    if budget[0] < 0:
-        raise _TooLarge
-    if e.is_Integer:
-        return float(int(e))
-    if e.is_Rational:
-        return int(e.p) / int(e.q)
-    if e.is_Float:
-        return float(e)
-    if e is sp.pi:
-        return math.pi
-    if e is sp.E:
-        return math.e
-    if e.is_Symbol:
-        if e.name in values:
-            return float(values[e.name])
-        raise ValueError(f"unknown symbol '{e.name}'")
-    if e.is_Add:
-        return math.fsum(_float(a, values, budget) for a in e.args)
-    if e.is_Mul:
-        out = 1.0
-        for a in e.args:
-            out *= _float(a, values, budget)
-        return out
-    if e.is_Pow:
-        base, exp = _float(e.base, values, budget), _float(e.exp, values, budget)
-        if base == 0.0 and exp < 0:
-            raise ZeroDivisionError
-        out = math.pow(base, exp)
-        return out
-    func = _FLOAT_FUNCTIONS.get(e.func)
-    if func is None:
-        raise ValueError(f"cannot evaluate {e.func.__name__} numerically")
-    args = [_float(a, values, budget) for a in e.args]
-    if e.func is sp.log and args[0] <= 0:
-        raise ValueError("log of a non-positive number")
-    return float(func(*args))

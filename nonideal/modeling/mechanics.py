@@ -12,6 +12,13 @@ built from positions and orientations alone, and :mod:`nonideal.equations.dynami
 Coordinates, initial values and constraint expressions may use ``dynamicsymbols``: ``q1(t)``
 is the coordinate ``q1``, ``q1'(t)`` its velocity ``q1'``.
 
+The frames of the rigid bodies and the points of the bodies (and any ``ReferenceFrame`` or
+``Point`` passed in ``frames=`` / ``points=``) become the model's declared frames and points
+(:class:`~nonideal.modeling.frames.Frame` given by its matrix in the inertial frame,
+:class:`~nonideal.modeling.points.Point` by its position from the origin) under their SymPy
+names, so expressions may use them: ``dot(vel(P), N.x)``, ``omega(B)`` (a name that is not an
+identifier, reserved or taken twice is left out).
+
 Examples
 --------
 >>> import sympy as sp
@@ -39,9 +46,14 @@ from sympy.core.function import AppliedUndef
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from ..errors import ModelError
+from .frames import Frame
+from .kinematics import RESERVED_KINEMATIC_NAMES
 from .model import Model
+from .points import Point
+from .symbols import is_identifier
 
-__all__ = ["model_from_mechanics", "bodies_from_mechanics", "loads_from_mechanics", "coordinate_name"]
+__all__ = ["model_from_mechanics", "bodies_from_mechanics", "loads_from_mechanics", "coordinate_name",
+           "frames_points_from_mechanics"]
 
 
 def _me():
@@ -176,6 +188,35 @@ def loads_from_mechanics(frame: Any, origin: Any, loads: Iterable[Any],
     return tuple(out)
 
 
+def frames_points_from_mechanics(frame: Any, origin: Any, bodies: Iterable[Any], frames: Iterable[Any] = (),
+                                 points: Iterable[Any] = ()) -> tuple[tuple, tuple]:
+    """Our :class:`Frame` and :class:`Point` declarations of the SymPy frames of the rigid
+    bodies and the points of the bodies, plus *frames* and *points* (SymPy objects, or ours,
+    passed through): each frame by its rotation matrix in *frame* (``frame.dcm(B)``: columns,
+    B's unit vectors), each point by its position from *origin* in *frame*'s axes."""
+    me = _me()
+    out_frames, out_points, taken = [], [], {frame.name, origin.name}
+    sym_frames = [b.frame for b in bodies if isinstance(b, me.RigidBody)] + list(frames)
+    sym_points = [b.masscenter if isinstance(b, me.RigidBody) else b.point for b in bodies
+                  if isinstance(b, (me.RigidBody, me.Particle))] + list(points)
+
+    def usable(name) -> bool:
+        ok = is_identifier(name) and name not in RESERVED_KINEMATIC_NAMES and name not in taken
+        taken.add(name)
+        return ok
+    for f in sym_frames:
+        if isinstance(f, Frame):
+            out_frames.append(f)
+        elif isinstance(f, me.ReferenceFrame) and f is not frame and usable(f.name):
+            out_frames.append(Frame(f.name, matrix=frame.dcm(f).tolist()))
+    for p in sym_points:
+        if isinstance(p, Point):
+            out_points.append(p)
+        elif isinstance(p, me.Point) and p is not origin and usable(p.name):
+            out_points.append(Point(p.name, _position(p, origin, frame, f"point '{p.name}'")))
+    return tuple(out_frames), tuple(out_points)
+
+
 def model_from_mechanics(name: str, coordinates: Sequence[Any], frame: Any, origin: Any,
                          bodies: Iterable[Any], loads: Iterable[Any] = (),
                          gravity: Any = None, initial: Mapping[Any, Any] | None = None,
@@ -204,9 +245,13 @@ def model_from_mechanics(name: str, coordinates: Sequence[Any], frame: Any, orig
     if isinstance(gravity, me.Vector):
         gravity = _components(gravity, frame, "gravity")
     init = {coordinate_name(k): v for k, v in (initial or {}).items()}
+    frames, points = frames_points_from_mechanics(frame, origin, sympy_bodies, model_fields.pop("frames", ()),
+                                                  model_fields.pop("points", ()))
     return Model(
         name=name,
         coordinates=names,
+        frames=frames,
+        points=points,
         bodies=bodies_from_mechanics(frame, origin, sympy_bodies),
         loads=loads_from_mechanics(frame, origin, loads, sympy_bodies),
         gravity=gravity,

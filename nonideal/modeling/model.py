@@ -87,6 +87,12 @@ class Model:
     units : Units or mapping, optional
         Declared units (``length``, ``mass``, ``time``, ``angle``, ``coordinates``: the kind
         or unit of a coordinate), for labels and outputs only (:mod:`nonideal.modeling.units`).
+    frames : sequence of Frame, optional
+        Reference frames rotated from their parents (:mod:`nonideal.modeling.frames`).
+    points : sequence of Point, optional
+        Points placed from other points (:mod:`nonideal.modeling.points`).  Frames and points
+        are usable in every expression through the vector functions (``omega(B)``,
+        ``vel(P)``, ``dot(a, b)`` ...; :attr:`kinematics`).
     """
 
     name: str
@@ -108,6 +114,8 @@ class Model:
     description: str = ""
     units: Units | Mapping[str, Any] | None = None
     controls: tuple[Control, ...] = ()
+    frames: tuple[Any, ...] = ()
+    points: tuple[Any, ...] = ()
 
     # ------------------------------------------------------------------ construction
     def __post_init__(self):
@@ -121,6 +129,12 @@ class Model:
         problems += more
         if problems:
             raise ModelError(problems, None if self.source == "<api>" else self.source)
+
+    @property
+    def kinematics(self):
+        """The frames and points with their derived rotations, angular velocities, positions,
+        velocities and accelerations (:class:`~nonideal.modeling.kinematics.Kinematics`)."""
+        return self.__dict__["_kinematics"]
 
     def cached(self, key, build: Callable[[], Any]) -> Any:
         """``build()``, once per model and *key*: the one cache of what later stages derive
@@ -212,7 +226,7 @@ class Model:
 
     def parse(self, text: Any, where: str, order: int = 1) -> sp.Expr:
         """Parse a string (safely) or normalize a SymPy expression of this model."""
-        return to_expr(text, self.names(order), where, self.coordinates)
+        return to_expr(text, self.names(order), where, self.coordinates, self.kinematics)
 
     def numeric_initial(self) -> dict[str, float]:
         """The initial values given, evaluated with the parameter values (computed once: the

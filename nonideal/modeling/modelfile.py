@@ -33,6 +33,8 @@ from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, Regu
 from ..errors import ModelError, did_you_mean, short_repr
 from .limits import check_size, read_text
 from .declarations import Control
+from .frames import FIXED, ORIGIN, Frame
+from .points import Point
 from .model import Constraint, Model, resolve_parameters
 
 from .filechecks import Checker, control_characters, describe, is_expr, toml_problem, unknown_keys
@@ -42,7 +44,8 @@ __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
 FORMAT_VERSION = 1
 
 TOP_KEYS = {"model", "parameters", "coordinates", "energy", "forces", "bodies", "gravity", "loads",
-            "constraints", "contacts", "initial", "simulation", "forms", "units", "controls"}
+            "constraints", "contacts", "initial", "simulation", "forms", "units", "controls",
+            "frames", "points"}
 SECTION_KEYS = {
     "model": {"name", "format", "description", "source"},
     "coordinates": {"q"},
@@ -56,12 +59,18 @@ CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral"
                    "losses", "root", "cost", "description"}
 CONTROL_KEYS = {"name", "direction", "weight", "description"}
 CONTACT_KEYS = {"name", "gap", "slip", "mu", "mu_static", "friction", "eps", "restitution",
-                "bilateral", "description"}
+                "bilateral", "description", "body", "shape", "surface"}
 BODY_KEYS = {
-    "particle": {"type", "name", "mass", "position"},
+    "particle": {"type", "name", "mass", "position", "point"},
     "planar": {"type", "name", "mass", "inertia", "position", "angle"},
-    "rigid": {"type", "name", "mass", "inertia", "position", "rotation"},
+    "rigid": {"type", "name", "mass", "inertia", "position", "rotation", "frame", "center"},
 }
+#: the keys that place a body: one set of them
+BODY_PLACES = {"particle": ({"position"}, {"point"}), "planar": ({"position", "angle"},),
+               "rigid": ({"position", "rotation"}, {"frame", "center"})}
+FRAME_KEYS = {"name", "parent", "rotation", "angles", "axis", "angle", "quaternion", "matrix",
+              "description"}
+POINT_KEYS = {"name", "position", "frame", "from", "description"}
 LOAD_KEYS = {
     "force": {"type", "name", "point", "force"},
     "torque": {"type", "name", "torque", "angle", "body"},
@@ -154,7 +163,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     check = Checker(problems)
     problems += unknown_keys(data, TOP_KEYS, "top level")
     problems += control_characters(data)
-    for key in ("constraints", "contacts", "bodies", "loads", "controls"):
+    for key in ("constraints", "contacts", "bodies", "loads", "controls", "frames", "points"):
         items = data.get(key)
         for i, item in enumerate(items if isinstance(items, list) else []):
             if isinstance(item, dict) and "description" in item and not isinstance(item["description"], str):
@@ -282,13 +291,33 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     for k, c in enumerate(_array_of_tables(data, "contacts", problems)):
         where = f"[[contacts]] #{k + 1}" + (f" '{c.get('name')}'" if "name" in c else "")
         problems += unknown_keys(c, CONTACT_KEYS, where)
-        missing = [key for key in ("name", "gap", "slip") if key not in c]
-        if missing:
-            problems.append(f"{where}: missing {', '.join(missing)} (a contact needs name, "
-                            "gap = \"...\" (>= 0) and slip = [\"...\"])")
+        geometric = any(key in c for key in ("body", "shape", "surface"))
+        needed = ("name", "body", "shape") if geometric else ("name", "gap", "slip")
+        missing = [key for key in needed if key not in c]
+        if geometric and ("gap" in c or "slip" in c):
+            problems.append(f"{where}: give either gap and slip or body and shape (a contact from "
+                            "geometry: the library derives the gap and slip), not both")
             continue
-        ok = check.name(c, where) & check.expr(c, "gap", where)
-        ok &= check.expr_list(c, "slip", where, (1, 2), allow_scalar=True)
+        if missing:
+            problems.append(f"{where}: missing {', '.join(missing)} (a contact needs name and "
+                            + ("body = \"...\" (a rigid body) and shape = {type = \"sphere\", "
+                               "radius = \"r\"} (or another shape)" if geometric else
+                               "gap = \"...\" (>= 0) and slip = [\"...\"], or body and shape)"))
+            continue
+        ok = check.name(c, where)
+        if geometric:
+            for key in ("shape", "surface"):
+                if key in c and not isinstance(c[key], dict):
+                    problems.append(f"{where}: {key} must be an inline table such as "
+                                    + ("{type = \"sphere\", radius = \"r\"}" if key == "shape"
+                                       else "{type = \"plane\", normal = [0, 0, 1]}"))
+                    ok = False
+            if not isinstance(c["body"], str):
+                problems.append(f"{where}: body must be the name of a rigid body in quotes")
+                ok = False
+        else:
+            ok &= check.expr(c, "gap", where)
+            ok &= check.expr_list(c, "slip", where, (1, 2), allow_scalar=True)
         for key in ("mu", "mu_static"):
             if key in c and not is_infinite(c[key]):  # mu = "inf" (or inf): ideal rolling
                 ok &= check.expr(c, key, where)
@@ -321,6 +350,10 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
         if not ok:
             continue
         impact = Plastic() if not e else Newton(e)
+        if geometric:
+            contacts.append(Contact(c["name"], friction=friction, impact=impact, bilateral=bilateral,
+                                    body=c["body"], shape=c["shape"], surface=c.get("surface")))
+            continue
         slip = c["slip"]
         contacts.append(Contact(c["name"], c["gap"], tuple(slip) if isinstance(slip, list) else (slip,),
                                 friction, impact, bilateral))
@@ -334,12 +367,28 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                             "use \"particle\", \"planar\" or \"rigid\"")
             continue
         problems += unknown_keys(b, BODY_KEYS[kind], where)
-        missing = [key for key in BODY_KEYS[kind] - {"type"} if key not in b]
+        places = [keys for keys in BODY_PLACES[kind] if keys & set(b)]
+        place = places[0] if len(places) == 1 else BODY_PLACES[kind][0]
+        missing = [key for key in ({"name", "mass", "inertia"} & BODY_KEYS[kind]) | place if key not in b]
+        if len(places) > 1:
+            problems.append(f"{where}: give either {' and '.join(sorted(BODY_PLACES[kind][0]))} or "
+                            f"{' and '.join(sorted(BODY_PLACES[kind][1]))}, not both")
+            continue
         if missing:
-            problems.append(f"{where}: missing {', '.join(sorted(missing))}")
+            problems.append(f"{where}: missing {', '.join(sorted(missing))}" + (
+                f" (or {' and '.join(sorted(BODY_PLACES[kind][1]))}, declared in [[frames]] / [[points]])"
+                if len(BODY_PLACES[kind]) > 1 and not places else ""))
             continue
         ok = check.name(b, where) & check.expr(b, "mass", where)
-        if kind == "particle":
+        for key in ("frame", "center", "point"):
+            if key in b and not isinstance(b[key], str):
+                problems.append(f"{where}: {key} must be the name of a declared "
+                                f"{'frame' if key == 'frame' else 'point'} (got {describe(b[key])})")
+                ok = False
+        if kind == "particle" and "point" in b:
+            if ok:
+                bodies.append(Particle(b["name"], b["mass"], point=b["point"]))
+        elif kind == "particle":
             ok &= check.expr_list(b, "position", where, (2, 3))
             if ok:
                 bodies.append(Particle(b["name"], b["mass"], b["position"]))
@@ -348,6 +397,11 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
             ok &= check.expr(b, "inertia", where) & check.expr(b, "angle", where)
             if ok:
                 bodies.append(PlanarBody(b["name"], b["mass"], b["inertia"], b["position"], b["angle"]))
+        elif "frame" in b:
+            ok &= check.matrix(b, "inertia", where, 3)
+            if ok:
+                bodies.append(RigidBody(b["name"], b["mass"], b["inertia"], frame=b["frame"],
+                                        center=b["center"]))
         else:
             ok &= check.expr_list(b, "position", where, (3,))
             ok &= check.matrix(b, "inertia", where, 3) & check.matrix(b, "rotation", where, 3)
@@ -389,6 +443,8 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 ok &= check.expr(ld, "angle", where)
             if ok:
                 loads.append(Torque(ld["name"], ld["torque"], ld.get("angle"), ld.get("body")))
+
+    frames, points = read_frames_and_points(data, check, problems)
 
     sim = table("simulation")
     t0 = check.number(sim, "t0", "[simulation]", 0.0)
@@ -464,12 +520,52 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 source=source,
                 units=data.get("units"),
                 controls=tuple(controls),
+                frames=frames,
+                points=points,
             )
         except ModelError as exc:
             problems += [p for p in exc.problems if p not in problems]
     if problems:
         raise ModelError(problems, source)
     return model
+
+
+def read_frames_and_points(data: dict, check: Checker, problems: list[str]) -> tuple[tuple, tuple]:
+    """``[[frames]]`` and ``[[points]]`` as :class:`Frame` and :class:`Point` declarations
+    (their types checked here, their meaning by the model)."""
+    frames = []
+    for k, f in enumerate(_array_of_tables(data, "frames", problems)):
+        where = f"[[frames]] #{k + 1}" + (f" '{f.get('name')}'" if "name" in f else "")
+        problems.extend(unknown_keys(f, FRAME_KEYS, where))
+        ok = check.name(f, where)
+        for key in ("parent", "rotation"):
+            if key in f and not isinstance(f[key], str):
+                problems.append(f"{where}: {key} must be a string (got {describe(f[key])})")
+                ok = False
+        for key, size in (("angles", (1, 2, 3)), ("axis", (3,)), ("quaternion", (4,))):
+            ok &= check.expr_list(f, key, where, size) if key in f else True
+        ok &= check.expr(f, "angle", where) if "angle" in f else True
+        ok &= check.matrix(f, "matrix", where, 3) if "matrix" in f else True
+        if ok:
+            frames.append(Frame(f["name"], f.get("parent", FIXED), f.get("rotation"), f.get("angles"),
+                                f.get("axis"), f.get("angle"), f.get("quaternion"), f.get("matrix")))
+    points = []
+    for k, p in enumerate(_array_of_tables(data, "points", problems)):
+        where = f"[[points]] #{k + 1}" + (f" '{p.get('name')}'" if "name" in p else "")
+        problems.extend(unknown_keys(p, POINT_KEYS, where))
+        if "position" not in p:
+            problems.append(f"{where}: missing position (3 components in the axes of frame, "
+                            "from the point 'from')")
+            continue
+        ok = check.name(p, where) & check.expr_list(p, "position", where, (3,))
+        for key in ("frame", "from"):
+            if key in p and not isinstance(p[key], str):
+                problems.append(f"{where}: {key} must be the name of a "
+                                f"{'frame' if key == 'frame' else 'point'} (got {describe(p[key])})")
+                ok = False
+        if ok:
+            points.append(Point(p["name"], p["position"], p.get("frame", FIXED), p.get("from", ORIGIN)))
+    return tuple(frames), tuple(points)
 
 
 class _ConstraintSpec(dict):

@@ -12,12 +12,13 @@ import numpy as np
 import sympy as sp
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
-from .contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb,
-                       read_infinite)
+from .contacts import Contact, Newton, Plastic, normalize_friction
 from ..errors import ExpressionError, did_you_mean
+from .shapes.reading import shape_contact
 from .symbols import is_identifier
 
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
+from .normalize_kinematics import normalize_kinematics, normalize_quaternion_initial, resolve_body
 from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
 
@@ -30,6 +31,7 @@ class Normalizer:
     def __init__(self, model, problems: list[str]):
         self.m, self.problems = model, problems
         self._names: dict[int, dict[str, sp.Expr]] = {}   # by derivative order, once known
+        self.kinematics = None    # the frames and points, once normalized
 
     def set(self, name: str, value: Any) -> None:
         object.__setattr__(self.m, name, value)
@@ -62,7 +64,7 @@ class Normalizer:
 
     def expr(self, value: Any, where: str, order: int = 1) -> sp.Expr | None:
         try:
-            return to_expr(value, self.names(order), where, self.m.coordinates)
+            return to_expr(value, self.names(order), where, self.m.coordinates, self.kinematics)
         except ExpressionError as exc:
             self.problems.extend(exc.problems)
             self.unknown.extend(exc.unknown)
@@ -73,8 +75,10 @@ class Normalizer:
         self.names_and_parameters()
         if self.problems:
             return
+        self.kinematics = normalize_kinematics(self)
+        self.m.__dict__["_kinematics"] = self.kinematics
+        self.bodies_and_loads()      # first: momentum(body) may appear in energies and forces
         self.energy_and_forces()
-        self.bodies_and_loads()
         normalize_controls(self)
         self.constraints()
         self.contacts()
@@ -151,7 +155,8 @@ class Normalizer:
             params[name] = p
         values, problems = resolve_parameters({n: p.value for n, p in params.items()})
         self.problems += problems
-        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description)
+        self.set("parameters", {n: Parameter(n, values[n], p.unit, p.description,
+                                             p.value if isinstance(p.value, str) else p.definition)
                                 for n, p in params.items() if n in values})
 
     # -- energy
@@ -211,11 +216,14 @@ class Normalizer:
             if b.name in names:
                 self.problems.append(f"{where}: duplicate body name")
             names.add(b.name)
+            b = resolve_body(self, self.kinematics, b, where)
+            if b is None:
+                continue
             mass = self.expr(b.mass, f"{where}: mass", 0)
             if isinstance(b, Particle):
                 pos = self.vector(b.position, f"{where}: position", (2, 3))
                 if mass is not None and pos is not None:
-                    bodies.append(Particle(b.name, mass, pos))
+                    bodies.append(replace(b, mass=mass, position=pos))
             elif isinstance(b, PlanarBody):
                 pos = self.vector(b.position, f"{where}: position", (2,))
                 inertia = self.expr(b.inertia, f"{where}: inertia", 0)
@@ -229,10 +237,12 @@ class Normalizer:
                 if len(rows_i) != 3 or len(rows_r) != 3:
                     self.problems.append(f"{where}: inertia and rotation must be 3x3")
                 elif None not in (mass, pos, *rows_i, *rows_r):
-                    bodies.append(RigidBody(b.name, mass, tuple(rows_i), pos, tuple(rows_r)))
+                    bodies.append(replace(b, mass=mass, inertia=tuple(rows_i), position=pos,
+                                          rotation=tuple(rows_r)))
             else:
                 self.problems.append(f"{where}: not a Particle, PlanarBody or RigidBody")
         self.set("bodies", tuple(bodies))
+        self.kinematics.bodies = {b.name: b for b in bodies}
         if m.gravity is not None:
             self.set("gravity", self.vector(m.gravity, "[gravity] vector", (2, 3)))
         loads = []
@@ -437,20 +447,20 @@ class Normalizer:
                 self.problems.append(f"{where}: name already used by a constraint or contact")
                 continue
             names.add(ct.name)
+            if ct.geometry is None and (ct.shape is not None or ct.body is not None or ct.gap is None):
+                ct = shape_contact(ct, where, m, lambda v, w: self.expr(v, w, 0), self.problems)
+                if ct is None:
+                    continue
             gap = self.smooth(self.expr(ct.gap, f"{where}: gap", 2), f"{where}: gap")
             if gap is None:
                 continue
             if derivative_order(gap, m.coordinates) > 0:
-                self.problems.append(
-                    f"{where}: the gap must be a function of the coordinates and time only "
-                    "(it contains velocities)"
-                )
+                self.problems.append(f"{where}: the gap must be a function of the coordinates and "
+                                     "time only (it contains velocities)")
                 continue
             if identically_zero(gap) or not (gap.free_symbols & set(m.q)):
-                self.problems.append(
-                    f"{where}: the gap does not depend on the coordinates, so no normal force "
-                    "can be identified; write the normal distance, e.g. gap = \"y\""
-                )
+                self.problems.append(f"{where}: the gap does not depend on the coordinates, so no normal "
+                                     "force can be identified; write the normal distance, e.g. gap = \"y\"")
                 continue
             slips = []
             if not 1 <= len(ct.slip) <= 2:
@@ -470,10 +480,8 @@ class Normalizer:
                     )
                     continue
                 if not (e.free_symbols & set(m.qd)):
-                    self.problems.append(
-                        f"{where}: slip[{i}] = {e} contains no velocity; it must be the "
-                        "tangential velocity of the contact point"
-                    )
+                    self.problems.append(f"{where}: slip[{i}] = {e} contains no velocity; it must be "
+                                         "the tangential velocity of the contact point")
                     continue
                 slips.append(e)
             if len(slips) != len(ct.slip):
@@ -488,7 +496,8 @@ class Normalizer:
                 continue
             if friction is None:
                 continue
-            out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral)))
+            out.append(Contact(ct.name, gap, tuple(slips), friction, impact, bool(ct.bilateral),
+                               ct.body, ct.shape, ct.surface, ct.geometry))
         self.set("contacts", tuple(out))
         # the multipliers are printed as lambda_<constraint>: a parameter or coordinate of that
         # name would read like a multiplier in every equation
@@ -500,44 +509,7 @@ class Normalizer:
                         f"'{name[7:]}' in the equations; rename it")
 
     def friction(self, law: Any, where: str):
-        pvals = parameter_values(self.m.parameters)
-
-        def coefficient(value: Any, key: str):
-            e = self.expr(value, f"{where}: {key}", 0)
-            if e is None:
-                return None
-            if not e.free_symbols & set(self.m.q):
-                v = e.xreplace(pvals)
-                if v.is_number and float(v) < 0:
-                    self.problems.append(f"{where}: {key} = {float(v):g} is negative; a friction "
-                                         "coefficient is >= 0")
-                    return None
-            return e
-
-        law, problem = read_infinite(law, where)  # mu = inf: ideal rolling, or a problem
-        if problem or isinstance(law, IdealRolling):
-            self.problems += [problem] if problem else []
-            return None if problem else law
-        if isinstance(law, Coulomb):
-            mu = coefficient(law.mu, "mu")
-            # mu_static defaults to mu: a problem of mu is not reported again under a key the
-            # user did not write
-            mus = coefficient(law.mu_static, "mu_static") if law.mu_static is not None else mu
-            if mu is None or mus is None:
-                return None
-            return Coulomb(mu, mus)
-        if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)):
-            mu = coefficient(law.mu, "mu")
-            if mu is None:
-                return None
-            if not float(law.eps) > 0:
-                self.problems.append(f"{where}: eps must be > 0 (got {law.eps})")
-                return None
-            return type(law)(mu, float(law.eps))
-        self.problems.append(
-            f"{where}: friction must be Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb"
-        )
-        return None
+        return normalize_friction(self, law, where)
 
     # -- initial state and settings
     def initial_and_settings(self) -> None:
@@ -568,7 +540,9 @@ class Normalizer:
                 self.problems.extend(bad)
                 continue
             out[key] = e
+        out, problems = normalize_quaternion_initial(self.kinematics, out, values)
         self.set("initial", out)
+        self.problems += problems
         if m.independent is not None:
             ind = tuple(m.independent)
             for name in ind:

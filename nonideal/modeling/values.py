@@ -26,9 +26,12 @@ __all__ = ["to_expr", "normalize_sympy", "derivative_order", "resolve_parameters
 
 
 def to_expr(value: Any, names: Mapping[str, sp.Expr], where: str,
-             coordinates: Iterable[str]) -> sp.Expr:
+            coordinates: Iterable[str], vectors=None) -> sp.Expr:
+    """An expression of the model: a string through the safe parser (with the vector
+    functions of *vectors*, the model's kinematics, when given), a SymPy expression with its
+    symbols mapped onto the model's."""
     if isinstance(value, str) or isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
-        return parse_expression(value, names, where)
+        return parse_expression(value, names, where, vectors)
     if isinstance(value, sp.Basic):
         return normalize_sympy(sp.sympify(value), names, where, tuple(coordinates))
     raise ExpressionError(

@@ -210,6 +210,10 @@ def diagnose_singular(solver, M, G, B, layout, t, q, qd) -> Exception:
         failure = root_failure(kernel, t, q, qd, solver.params)
         if failure is not None:
             return failure
+    singular = _singular_transforms(kernel, bad, t, q, qd, solver.params)
+    if singular:
+        return MechanicsError(singular + where.replace(" at t", "; at t", 1)
+                              + ": the motion cannot be continued through this state")
     if bad or not (np.all(np.isfinite(M))):
         what = (f"constraint(s) {', '.join(repr(b) for b in bad)} are not differentiable" if bad
                 else "the mass matrix is not finite")
@@ -276,3 +280,44 @@ def weakest_reactions(M: np.ndarray, G: np.ndarray, B: np.ndarray) -> tuple[floa
     _, sv, Vt = np.linalg.svd(G @ Minv_B)
     scale = float(np.linalg.norm(G) * np.linalg.norm(Minv_B))
     return float(sv[-1]) / max(scale, 1e-300), Vt[-1]
+
+
+def _singular_transforms(kernel, bad, t, q, qd, params) -> str:
+    """The explanation when the non-finite reaction columns *bad* are quasi-ideal constraints
+    whose transform ``A`` is singular at the state (``A R = lambda grad f``, Briskin et al.
+    2021, (1.3), (2.1)): ``R = A^-1 grad f lambda`` does not exist there, though the definition may
+    still fix the reaction (along ``adj(A) grad f``, with ``lambda = 0``); empty otherwise."""
+    import sympy as sp
+
+    model = kernel.model
+    values = {sp.Symbol(k): v for k, v in model.parameter_values.items()}
+    values.update({sp.Symbol("t"): t})
+    values.update(dict(zip(model.q, q)))
+    values.update(dict(zip(model.qd, qd)))
+    out = []
+    for c in model.constraints:
+        if c.name not in bad or c.transform is None:
+            continue
+        A = sp.Matrix([[sp.sympify(x) for x in row] for row in c.transform])
+        try:
+            An = np.array(A.xreplace(values).evalf(), dtype=float)
+        except (TypeError, ValueError):
+            continue
+        scale = max(1.0, float(np.abs(An).max()))
+        det = float(np.linalg.det(An))
+        if abs(det) > 1e-12 * scale ** len(An):
+            continue
+        grad = np.array([float(sp.diff(c.expr, x).xreplace(values))
+                         for x in (model.q if c.order == 0 else model.qd)], dtype=float)
+        adj = np.array(A.adjugate().xreplace(values).evalf(), dtype=float) @ grad
+        direction = ", ".join(f"{v:.6g}" for v in adj)
+        out.append(
+            f"constraint '{c.name}': its transform A is singular (det A = 0) -- a quasi-ideal "
+            f"constraint's reaction R = A^-1 (grad f) lambda does not exist.  By its definition "
+            f"A R = lambda grad f (Briskin et al. 2021, (1.3), (2.1)) the reaction is then "
+            + (f"along adj(A) grad f = ({direction}) with lambda = 0, a motion this library does "
+               "not yet compute (it solves quasi-ideal constraints through A^-1); move the "
+               "transform off det A = 0 to compute it" if np.any(np.abs(adj) > 1e-12 * scale)
+               else "not determined by it (adj(A) grad f = 0): the constraint does not fix its "
+                    "reaction here"))
+    return "; ".join(out)

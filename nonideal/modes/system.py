@@ -267,6 +267,7 @@ class ModeSystem:
         sol, lu, piv = self.factor(K, r)
         solver.last = (t, y, mode, sol, lu, piv)
         lam = sol[n:]  # -lambda
+        solver.column_powers = -lam * Bqd   # lambda_j B_j . q' of each column (the controls' powers)
         total = -float(lam @ Bqd)
         friction = 0.0
         for (j, *_), p in zip(self.sliding, fq):
@@ -447,7 +448,9 @@ class ModeFunction:
         if info != 0 or not (math.isfinite(sol @ sol) or np.all(np.isfinite(sol))):
             raise SingularMatrix("saddle-point system")
         solver.last = (t, y, mode, sol, lu, piv)
-        total, friction = out[self.powers].reshape(2, self.m) @ sol[n:]  # sol[n:] = -lambda
+        weights = out[self.powers].reshape(2, self.m)
+        total, friction = weights @ sol[n:]  # sol[n:] = -lambda
+        solver.column_powers = -weights[0] * sol[n:]
         return sol, friction - total, -friction, (out[self.P] if self.P else None)
 
 

@@ -17,13 +17,15 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import sympy as sp
 from scipy.linalg import qr
 
 from .contact_kernel import contact_kernel_of
 from ..errors import InconsistentInitialConditions, MechanicsError, NonidealError
+from ..modeling.symbols import t as time
 from .kernel import Kernel, kernel_of, parameter_vector, root_failure
 
-__all__ = ["complete_state", "project_state", "project_positions", "project_velocities",
+__all__ = ["complete_state", "support_problems", "project_state", "project_positions", "project_velocities",
            "random_admissible_states", "initial_branch", "GIVEN_TOL"]
 
 GIVEN_TOL = 1e-9     # relative tolerance on given values (beyond: error)
@@ -172,7 +174,10 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     miss_q = [i for i, c in enumerate(names) if c not in given]
     miss_v = [i for i, c in enumerate(names) if c + "'" not in given]
 
-    # ---- positions
+    # ---- positions (a shape's support point must be unique where the orientation is given)
+    problems = support_problems(model, levels.ck.params, params, t0, start_q, given)
+    if problems:
+        raise InconsistentInitialConditions(problems, _src(model))
     pos_rows = [i for i in equality if rows[i].holonomic]
     q, qd, ok = _newton(levels, pos_rows, miss_q, t0, start_q, qd, "pos")
     closed_extra: list[int] = []
@@ -214,6 +219,9 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
         raise InconsistentInitialConditions(problems, _src(model))
     closed = [i for i in optional if abs(pos[i]) <= GIVEN_TOL * scale]
     q = _project(levels, pos_rows + closed, t0, q, qd, "pos")
+    problems = support_problems(model, levels.ck.params, params, t0, q)
+    if problems:
+        raise InconsistentInitialConditions(problems, _src(model))
 
     # ---- velocities
     vel_eq = [i for i in equality if levels.has_velocity[i]]
@@ -221,8 +229,14 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     if miss_v and not _determined(levels, vel_eq, miss_v, t0, q, qd):
         found = False
         closed_v = [i for i in closed if levels.has_velocity[i]]
-        for k in range(1, len(closed_v) + 1):
-            for subset in itertools.combinations(closed_v, k):
+        # a closed contact that rolls (mu = inf) or sticks holds its slip at zero: its slip rows
+        # complete the velocities as constraints do (the rolling contacts' rows first)
+        touching = {rows[i].index for i in closed if rows[i].kind == "contact"}
+        slips = [i for i, r in enumerate(rows) if r.kind == "slip" and r.index in touching]
+        slips.sort(key=lambda i: rows[i].index not in levels.ck.rolling)
+        candidates = closed_v + slips
+        for k in range(1, len(candidates) + 1):
+            for subset in itertools.combinations(candidates, k):
                 rows_try = vel_eq + list(subset)
                 _, qd2, ok2 = _newton(levels, rows_try, miss_v, t0, q, qd, "vel")
                 if ok2 and _determined(levels, rows_try, miss_v, t0, q, qd2):
@@ -253,6 +267,28 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     qd = _project(levels, vel_eq, t0, q, qd, "vel")
     closed_constraints = [rows[i].index for i in closed if rows[i].kind == "constraint"]
     return q, qd, closed_constraints
+
+
+def support_problems(model, symbols, params, t, q, given=None) -> list[str]:
+    """The contacts from geometry whose support point is not unique at the state (a disk lying
+    flat, a paraboloid touching from outside its valid side), each named with the reason; with
+    *given* (names of the given values), only those whose orientation is given."""
+    out = []
+    for c in model.contacts:
+        if c.geometry is None or c.geometry.validity is None:
+            continue
+        expr, why = c.geometry.validity
+        if given is not None and any(str(s) in model.coordinates and str(s) not in given
+                                     for s in expr.free_symbols):
+            continue
+        values = {sp.Symbol(str(k)): float(v) for k, v in zip(symbols, params)}
+        values |= {k: float(v) for k, v in zip(model.q, q)} | {time: float(t)}
+        value = float(expr.xreplace(values))
+        if not value > 1e-12:
+            state = ", ".join(f"{n} = {float(v):.6g}" for n, v in zip(model.coordinates, q))
+            out.append(f"contact '{c.name}' (shape {c.shape.TYPE} of body '{c.body}'): no unique "
+                       f"support point at the initial state ({state}): {why}")
+    return out
 
 
 def _unreachable_program(levels: _Levels, t, q, qd, missing) -> None:

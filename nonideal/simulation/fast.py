@@ -81,8 +81,8 @@ class FastPhases:
     def _system(self, mode: Mode):
         """The mode's system when the native right-hand side computes it, else None."""
         sim = self.sim
-        if self.option is False or not sim.solver.route.saddle_point:
-            return None
+        if self.option is False or not sim.solver.route.saddle_point or getattr(sim, "control_rows", None):
+            return None  # (the controls' powers of servo rows are integrated on the NumPy path)
         system = sim.solver.system(mode)
         if system.contact_rows or system.blocks is not None or (system.m and system.dependence is not False):
             return None

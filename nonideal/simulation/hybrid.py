@@ -122,6 +122,8 @@ class Simulation:
         self.contacts = bool(self.solver.ck)
         self.track = bool(k.rows) or k.has_nc_forces or k.explicit_time or self.contacts
         self.n = k.n
+        #: the servo rows: each control's power is integrated with the motion, after the works
+        self.control_rows = [i for i, r in enumerate(k.rows) if r.reaction_kind == "servo"]
         self.fast = FastPhases(self, native)
 
     # ------------------------------------------------------------------ right-hand side
@@ -239,11 +241,9 @@ class Simulation:
     def _work_tolerances(self):
         """Absolute tolerances of the state ``[q, q', W]``: *atol* for the motion and
         :data:`WORK_ATOL` times it for the work integrals (a user's array is kept)."""
-        if np.ndim(self.atol):
-            return self.atol
-        atol = np.full(2 * self.n + N_WORK, float(self.atol))
-        atol[2 * self.n:] *= WORK_ATOL
-        return atol
+        size = 2 * self.n + N_WORK + len(self.control_rows)   # the controls' works last
+        atol = np.asarray(self.atol, dtype=float) if np.ndim(self.atol) else np.full(2 * self.n, self.atol)
+        return np.concatenate((atol, np.full(max(0, size - atol.size), WORK_ATOL * atol.max())))
 
     def _energy(self, t, q, qd) -> float:
         """Jacobi's energy ``T2 - T0 + V`` at a state."""
@@ -330,7 +330,7 @@ class Simulation:
         validate_state(self.solver, t0, q0, qd0)
         mode = select_mode(self.solver, t0, q0, qd0)
         q0, qd0 = self._project(mode, t0, q0, qd0)
-        y = np.concatenate((q0, qd0, np.zeros(N_WORK if self.track else 0)))
+        y = np.concatenate((q0, qd0, np.zeros(N_WORK + len(self.control_rows) if self.track else 0)))
         atol = self._work_tolerances() if self.track else self.atol
         samples = SampleBuffer(self.max_samples)  # bounded: thinned past max_samples steps
         self.fast.start()

@@ -1,6 +1,7 @@
 """The right-hand side of a phase of the hybrid simulation: ``y' = f(t, y)`` with
 ``y = [q, q', W]`` (the coordinates, the velocities and the works of the active forces, the
-reactions, the explicit time dependence, friction and impacts), for one mode.
+reactions, the explicit time dependence, friction and impacts, then of each servo-constraint's
+control), for one mode.
 
 Lagrange I (the saddle-point route) evaluates the mode's
 :class:`~nonideal.modes.system.ModeSystem` by index, or its compiled
@@ -48,6 +49,8 @@ def saddle_point_rhs(sim, mode: Mode):
 
     # the compiled system, once this mode structure has been integrated long enough
     function = system.specialized(sim.kernel, mode) if solver.specialize else None
+    controls = sim.control_rows
+    columns = [system.row_col.get(i) for i in controls]
     x = function.inputs(solver, mode) if function else None
 
     def fun(t, y):
@@ -62,7 +65,10 @@ def saddle_point_rhs(sim, mode: Mode):
         dy[:n] = y[n:2 * n]
         dy[n:2 * n] = sol[:n]
         # works: active, reactions, explicit time, friction, impacts (changed at switches)
-        dy[2 * n:] = (0.0, P_R, 0.0, P_f, 0.0) if P is None else (P[0], P_R, P[1], P_f, 0.0)
+        dy[2 * n:2 * n + 5] = (0.0, P_R, 0.0, P_f, 0.0) if P is None else (P[0], P_R, P[1], P_f, 0.0)
+        if controls:    # each control's power lambda_j B_j . q' (from the same solve)
+            powers = solver.column_powers
+            dy[2 * n + 5:] = [powers[j] if j is not None else 0.0 for j in columns]
         return dy
     return fun
 
@@ -78,6 +84,7 @@ def general_rhs(sim, mode: Mode):
 
     powers = kernel.has_nc_forces or kernel.explicit_time
     friction = sim.contacts and any(cs.state != SEPARATED for _, cs in mode.contacts)
+    controls = sim.control_rows
 
     def fun(t, y):
         q, qd = y[:n], y[n:2 * n]
@@ -108,5 +115,9 @@ def general_rhs(sim, mode: Mode):
             dy[2 * n], dy[2 * n + 2] = P
         else:
             dy[2 * n] = dy[2 * n + 2] = 0.0
+        if controls:    # each control's power lambda_j B_j . q'
+            sol = solver.solve(t, q, qd, mode, distribute=False)
+            dy[2 * n + 5:] = [sol.multiplier(i) * float(sol.B[:, sol.rows.index(i)] @ qd)
+                              if i in sol.rows else 0.0 for i in controls]
         return dy
     return fun

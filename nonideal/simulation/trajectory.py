@@ -56,12 +56,16 @@ class Trajectory:
     contacts : dict name -> dict of arrays (``normal``, ``friction``, ``slip``, ``mode``)
     controls : dict name -> dict, one per servo-constraint (Béghin 1922): ``force`` (N,) the
         control u (the multiplier of the program: the generalized control force is ``D u``),
-        ``power`` (N,) ``u D . q'``, ``work`` (N,) its integral by Simpson's rule over the
-        samples (pass a fine ``times`` grid for an accurate work), ``order`` the order of the
+        ``power`` (N,) ``u D . q'``, ``work`` (N,) its integral, integrated with the motion
+        (the work of controls shared by several programs, ``[[controls]]``, by Simpson's rule
+        over the samples: pass a fine ``times`` grid for it), ``order`` the order of the
         time derivative of the coordinates in which the control appears (2 ordinarily, more
         when it acts through the dynamics); for a program with several control directions
         (Béghin's r < j) also ``u_1 .. u_j``, the least-cost controls, and ``force`` is then the
-        program's multiplier (the generalized control force is ``sum_k d_k u_k``).
+        program's multiplier (the generalized control force is ``sum_k d_k u_k``).  With
+        controls shared by several programs (``[[controls]]``) each control has its own entry
+        (``force`` u_k, ``power``, ``work``, ``programs``) and each program an entry with its
+        ``multiplier`` (not a force), ``power``, ``work`` and ``controls``.
 
     Notes
     -----
@@ -160,7 +164,12 @@ class Trajectory:
                               "slip": np.array(slip, dtype=float).reshape(N, d).tolist(),
                               "gap": np.array(gap, dtype=float), "mu_static": np.array(mu_s, dtype=float),
                               "mode": list(label)}
-        controls = _controls(kernel, mult, qd, kernel.dynamics.views(kernel.dynamics.batch(X)), t, X) \
+        # the controls' works integrated with the motion (the states after the five works)
+        integrated = {kernel.rows[i].name: Y[:, 2 * n + 5 + k]
+                      for k, i in enumerate(getattr(sim, "control_rows", ()))
+                      if Y.shape[1] > 2 * n + 5 + k}
+        controls = _controls(kernel, mult, qd, kernel.dynamics.views(kernel.dynamics.batch(X)), t, X,
+                             integrated) \
             if any(r.reaction_kind == "servo" for r in kernel.rows) else {}  # (no n x n M per sample)
         return cls(kernel.model.name, tuple(kernel.model.coordinates), t, q, qd, qdd,
                    [s.mode.label() for s in samples], mult, energy, list(events), diag, contacts,
@@ -269,7 +278,7 @@ class Trajectory:
             + [c + "''" for c in self.coordinates] + [f"lambda_{k}" for k in self.multipliers] \
             + contact_header + list(self.energy) \
             + [f"{k}_{name}" for name, c in self.controls.items()
-               for k in ["u", "P", "W"] + sorted(x for x in c if x.startswith("u_"))] + ["mode"]
+               for k in _control_columns(c, labels=True)] + ["mode"]
         with open(path, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(header)
@@ -281,29 +290,45 @@ class Trajectory:
                     row += [f"{v[k]:.17g}" for v in values] + [modes[k]]
                 row += [f"{v[k]:.17g}" for v in self.energy.values()]
                 for c in self.controls.values():
-                    keys = ["force", "power", "work"] + sorted(x for x in c if x.startswith("u_"))
-                    row += [f"{c[key][k]:.17g}" for key in keys]
+                    row += [f"{c[key][k]:.17g}" for key in _control_columns(c)]
                 w.writerow(row + [self.modes[k]])
 
 
-def _controls(kernel, mult, qd, dynamics, t, X) -> dict[str, dict[str, Any]]:
+def _control_columns(c: dict, labels: bool = False) -> list[str]:
+    """The CSV columns of one entry of ``controls``: its force ``u`` (a program realized by
+    shared controls has none: its multiplier is ``lambda_<name>``), power ``P``, work ``W`` and
+    the several controls ``u_<k>`` of one program."""
+    keys = [k for k in ("force", "power", "work") if k in c] + sorted(x for x in c if x.startswith("u_"))
+    if not labels:
+        return keys
+    return [{"force": "u", "power": "P", "work": "W"}.get(k, k) for k in keys]
+
+
+def _controls(kernel, mult, qd, dynamics, t, X, integrated=None) -> dict[str, dict[str, Any]]:
     """Control force, power and work of every servo-constraint over the samples (and, for a
-    program with several control directions, each control ``u_<k>``)."""
+    program with several control directions, each control ``u_<k>``).  The work is the one
+    integrated with the motion where the simulation carried it (*integrated*: name -> work
+    at the samples), else the quadrature of the power over the samples."""
+    integrated = integrated or {}
     from ..numeric.kernel import Compiled
     out = {}
     reach = kernel.dyn.servo_reach
     several = kernel.dyn.control_rows
+    names, _, C = kernel.dyn.shared_rows
+    shared = [ctl.name for ctl in kernel.model.controls] if names else []
     for i, r in enumerate(kernel.rows):
         if r.reaction_kind != "servo":
             continue
         u = mult[r.name]
         B = np.asarray(dynamics["B"], dtype=float).reshape(len(t), kernel.n, -1)[:, :, i]
         power = u * np.einsum("ki,ki->k", B, qd)
-        if len(t) >= 3 and np.all(np.diff(t) > 0):
-            work = cumulative_simpson(power, x=t, initial=0.0)
-        else:
-            work = np.concatenate(([0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(t)))) \
-                if len(t) else np.zeros(0)
+        work = integrated[r.name].copy() if r.name in integrated else _work(power, t)
+        if r.name in names:
+            # a program realized by the shared controls: its multiplier is no force (the
+            # controls' forces are u = C mu, reported under the controls' own names)
+            out[r.name] = {"multiplier": u, "power": power, "work": work, "order": 2,
+                           "controls": shared}
+            continue
         out[r.name] = {"force": u, "power": power, "work": work,
                        "order": reach[r.name].order if r.name in reach else 2}
         if r.name in several:
@@ -311,7 +336,6 @@ def _controls(kernel, mult, qd, dynamics, t, X) -> dict[str, dict[str, Any]]:
             C = np.asarray(coef.batch(X), dtype=float).reshape(len(t), -1)
             for k in range(C.shape[1]):
                 out[r.name][f"u_{k + 1}"] = C[:, k] * u
-    names, _, C = kernel.dyn.shared_rows
     if names:   # the shared controls (Beghin: r programs, j controls): u = C mu, one entry each
         N, controls = len(t), kernel.model.controls
         coef = Compiled(kernel.symbols, {"c": [x for row in C for x in row],

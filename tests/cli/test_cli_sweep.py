@@ -129,3 +129,44 @@ def test_stability_sweep_finds_maievski_bound(tmp_path):
         ref = np.concatenate([np.sqrt(roots), -np.sqrt(roots)])
         eig = [complex(re, im) for re, im in row["summary"]["eigenvalues"]]
         assert max(min(abs(z - r) for r in ref) for z in eig if abs(z) > 1e-9) < 1e-8
+
+
+def test_a_mistyped_quantity_is_refused_before_the_sweep_runs(tmp_path):
+    """--quantity is checked on the first point: the other points never run, no journal is
+    left to block the next run, and the corrected command then succeeds."""
+    out, png = tmp_path / "s.json", tmp_path / "m.png"
+    args = ["sweep", BLOCK, "--vary", "alpha=0.2:0.6:12", "--what", "simulate", "--workers", "1",
+            "--json", out, "--plot", png]
+    r = run_cli(*args, "--quantity", "events.cuont", "--no-progress")
+    assert r.returncode == 2
+    assert "--quantity events.cuont: not a column" in r.stderr and "events.count" in r.stderr
+    assert not list(tmp_path.iterdir())
+    r = run_cli(*args, "--quantity", "events.count", "--no-progress")
+    assert r.returncode == 0, r.stderr
+    assert "12 points (12 run, 0 failed)" in r.stdout and png.exists()
+
+
+@pytest.mark.slow
+def test_an_interrupted_sweep_names_resume(tmp_path):
+    """Ctrl-C in the middle of a sweep: the finished points stay journaled and the message says
+    to run the same command with --resume (not "nothing was written")."""
+    out = tmp_path / "s.json"
+    journal = tmp_path / "s.json.journal"
+    args = ["sweep", BLOCK, "--vary", "alpha=0.2:0.6:40", "--what", "simulate", "--workers", "1",
+            "--json", str(out), "--no-progress"]
+    proc = subprocess.Popen([*cli_command(), *args], env=cli_env(), stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.time() + 120
+        while time.time() < deadline:
+            if journal.exists() and len(journal.read_text().splitlines()) >= 3:
+                break
+            time.sleep(0.05)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130
+    assert "--resume" in err and str(journal) in err and "nothing was written" not in err
+    assert journal.exists() and not out.exists()

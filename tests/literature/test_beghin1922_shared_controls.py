@@ -125,6 +125,9 @@ z = 1.0
     assert main(["simulate", str(path), "--t-end", "1", "--csv", str(out)]) == 0
     header = out.read_text().splitlines()[0].split(",")
     assert {"u_u1", "P_u3", "W_u2"} <= set(header)
+    summary = capsys.readouterr().out
+    assert "control u2: force at t_end = " in summary and "work = " in summary
+    assert "control hover" not in summary        # a program: its multiplier is no force
     assert main(["check", str(path)]) == 0
     assert "share the controls u1, u2, u3 (r = 2, j = 3" in capsys.readouterr().out
     path.write_text(text.replace("weight = 2", "weight = -1"))
@@ -138,3 +141,32 @@ z = 1.0
 def test_a_servo_constraint_without_reaction_needs_controls():
     with pytest.raises(ModelError, match="needs 'reaction'.*or the model's \\[\\[controls\\]\\]"):
         _model(())
+
+
+def test_programs_report_the_controls_not_their_multipliers(tmp_path):
+    """u = C mu: with two controls along x and z, the hover control is m g = 19.62 at m = 2;
+    the program's multiplier (39.24 here) is no force.  The CSV's u_<name> columns, the
+    trajectory's ``force`` entries and Béghin's statics (check at rest) give the control."""
+    import csv
+
+    from nonideal.analysis.contact.statics import servo_equilibrium
+
+    m, g = P["m"], P["g"]
+    tr = simulate(_model(_three()[:2]), times=TIMES)
+    assert "force" not in tr.controls["hover"] and "force" not in tr.controls["cruise"]
+    assert np.allclose(tr.controls["hover"]["multiplier"], tr.multipliers["hover"])
+    out = tmp_path / "hover.csv"
+    tr.to_csv(out)
+    rows = list(csv.DictReader(out.open()))
+    assert "u_hover" not in rows[0] and "u_cruise" not in rows[0]
+    assert {"P_hover", "W_hover"} <= set(rows[0])
+    assert float(rows[-1]["u_u2"]) == pytest.approx(m * g, rel=1e-12)
+    assert float(rows[-1]["u_u1"]) == pytest.approx(0.0, abs=1e-12)
+    rest = Model(name="hover at rest", coordinates=["x", "y", "z"], parameters={**P, "v": 0.0},
+                 kinetic="m/2*(x'^2 + y'^2 + z'^2)", potential="m*g*z",
+                 constraints=[Constraint("cruise", "x' - v", "servo"), Constraint("hover", "z - h", "servo")],
+                 initial={"x": 0, "y": 0, "z": 1.0, "x'": 0, "y'": 0, "z'": 0}, controls=_three()[:2])
+    eq = servo_equilibrium(rest)
+    assert eq.equilibrium
+    assert eq.controls == pytest.approx({"u1": 0.0, "u2": m * g})
+    assert "hover = 39.24" not in eq.note() and "u2 = 19.62" in eq.note()

@@ -29,3 +29,21 @@ def test_corrected_variational_equation(F, c):
 def test_unrealizable_at_the_boundary():
     with pytest.raises(LinearizationUndefined):
         linearize(MOD.build(alpha=1.0, beta=1.0 + JC), about="steady", at={"phi": 0.0})
+
+
+def test_y_equation_sign_3_22():
+    """(3.22) prints M y_C'' = F sin(phi) - lambda/(1 - alpha beta); with R_y = lambda/c (3.21)
+    it is + lambda/c, and lambda is (3.24)'s c J (M l phi'^2 - F) sin(phi)/(J + M c l^2 cos^2)."""
+    import math
+
+    from nonideal.analysis.evaluation import evaluate
+
+    phi, w, F, alpha, beta = 0.3, 0.5, 3.0, 0.5, 0.5
+    c = 1 - alpha * beta
+    at = {"phi": phi, "yc": -L * math.sin(phi), "phi'": w, "xc'": 1.0, "yc'": -L * math.cos(phi) * w}
+    d = evaluate(MOD.build(F=F, alpha=alpha, beta=beta), at=at).to_dict()
+    lam, ydd = d["multipliers"]["line"], d["qddot"]["yc"]
+    assert lam == pytest.approx(c * J * (M * L * w ** 2 - F) * math.sin(phi)
+                                / (J + M * c * L ** 2 * math.cos(phi) ** 2), rel=1e-10)
+    assert M * ydd - F * math.sin(phi) == pytest.approx(lam / c, rel=1e-10)
+    assert abs(M * ydd - F * math.sin(phi) + lam / c) > 0.5      # not the printed sign

@@ -122,3 +122,24 @@ def test_simulate_reports_the_heat_next_to_the_work():
     assert data["actuator_heat"]["total"] == pytest.approx(cf["heat"], rel=1e-11)
     assert data["actuator_heat"]["by_constraint"] == {"line": pytest.approx(cf["heat"], rel=1e-11)}
     assert data["energy"]["reaction_work"][-1] == pytest.approx(cf["work"], rel=1e-10)
+
+
+@pytest.mark.parametrize("alpha, beta, expect", [
+    (-0.5, -2.0, "along adj(A) grad f = (1, 2) with lambda = 0"),
+    (0.5, 2.0, "not determined by it (adj(A) grad f = 0)"),
+])
+def test_singular_transform_is_explained(alpha, beta, expect):
+    """alpha beta = 1 (two of the figures' grid points at k = 0.5): A is singular, so
+    R = A^-1 grad f lambda does not exist.  By the definition A R = lambda grad f (1.3) the
+    reaction at alpha = -0.5, beta = -2 lies in the null space of A, (1, 2), with lambda = 0
+    (the point on the line then has R = 0.4 G (1, 2) = (3.924, 7.848) for G = 9.81); at
+    alpha = 0.5, beta = 2 grad f is in the range of A and R is not fixed.  The message says
+    which, not "not differentiable ... gradient NaN"."""
+    from nonideal.errors import MechanicsError
+
+    model = load_model(PATH, parameters={"alpha": alpha, "beta": beta})
+    with pytest.raises(MechanicsError) as err:
+        evaluate(model)
+    text = str(err.value)
+    assert "transform A is singular (det A = 0)" in text and expect in text
+    assert "not differentiable" not in text

@@ -31,3 +31,16 @@ def test_A_W_and_optimal_stabilization_along_the_programme():
         terms = np.max(np.abs(A.T @ P)) + np.max(np.abs(P @ B @ B.T @ P)) + 1.0
         assert np.max(np.abs(res)) < 1e-4 * terms
     assert reg.exponent_open > 1.0 and reg.exponent_closed < 0
+
+
+def test_3_37_feedback_on_z_is_the_z_squared_coefficient():
+    """u1 = -B^T P x: the feedback on z = rho'_dot is the coefficient of z^2 in V = x^T P x
+    (C22 in the labelling of (3.35), as the printed dB/du1 = 0 says), not the rho'^2 one (C33,
+    as (3.37) prints it).  In the library's order (rho, phi2', rho'): K = P[2, :]/m."""
+    prog = linearize_program(gallery.load("regulator-release"), controls=["u1"], samples=41)
+    reg = program_lqr(prog)
+    m = MOD.DEFAULTS["m"]
+    for k in range(5, len(reg.t) - 5, 5):
+        P, K = reg.P[k], reg.K[k]
+        assert np.allclose(K[0], P[2] / m, rtol=1e-9, atol=1e-12)
+        assert abs(K[0, 2] - P[0, 0] / m) > 0.1 * abs(K[0, 2])

@@ -121,8 +121,8 @@ def test_unknown_keys_everywhere_with_suggestions(capsys):
     p = f"{path}: "
     expected = [
         p + "top level: unknown key 'simulaton' (did you mean 'simulation'?); allowed: bodies, "
-            "constraints, contacts, controls, coordinates, energy, forces, forms, gravity, initial, loads, "
-            "model, parameters, simulation, units",
+            "constraints, contacts, controls, coordinates, energy, forces, forms, frames, gravity, initial, "
+            "loads, model, parameters, points, simulation, units",
         p + "[energy]: unknown key 'potentail' (did you mean 'potential'?); allowed: kinetic, "
             "potential",
         p + "[[constraints]] #1 'floor': unknown key 'expresion' (did you mean 'expr'?); "

@@ -185,3 +185,76 @@ def test_combined_powers_are_bounded():
     with pytest.raises(ExpressionError) as info:
         parse_expression("(x^60)^60", NAMES, "[energy] potential")
     assert "after combining powers" in str(info.value)
+
+
+# ---------------------------------------------------------------- the vector grammar
+
+VECTOR_ATTACKS = [
+    "N.__class__",
+    "B.x.__class__",
+    "B.x.y",
+    "B.__dict__",
+    "omega.__globals__",
+    "omega(__import__)",
+    "omega(B.x)",
+    "vel(x.__class__)",
+    "vel('P')",
+    "vel(P)(1)",
+    "dot(N.x, N.x)(1)",
+    "cross(N.x)",
+    "dot(*[N.x, N.x])",
+    "norm(N.x, N.y)",
+    "momentum(__builtins__)",
+    "angular_momentum(body, __class__)",
+    "omega(" * 200 + "B" + ")" * 200,
+    "dot(" * 60 + "N.x, N.x" + ")" * 60,
+    "N.x" + " + N.x" * 5000,
+    "B.x * B.y",
+    "N.x ^ 2",
+    "exp(N.x)",
+    "vel(P)",                      # a vector where a scalar is expected
+    "N.x + 1",
+]
+
+
+@pytest.fixture(scope="module")
+def kinematics():
+    from nonideal import Model
+    from nonideal.modeling.frames import Frame
+    from nonideal.modeling.points import Point
+
+    return Model("k", coordinates=["x"], parameters={"m": 1.0},
+                 frames=[Frame("B", rotation="body Z", angles=["x"])],
+                 points=[Point("P", ["m", "0", "0"], frame="B")]).kinematics
+
+
+@pytest.mark.parametrize("attack", VECTOR_ATTACKS, ids=lambda a: repr(a[:40]))
+def test_vector_attack_is_rejected_quickly_and_runs_nothing(attack, kinematics, tmp_path):
+    start = time.process_time()     # processor time: a loaded machine does not fail it
+    with trap() as calls, pytest.raises(ExpressionError) as info:
+        parse_expression(attack, NAMES, "[energy] kinetic", kinematics)
+    assert time.process_time() - start < 10   # a refusal, not a blow-up (~0.05 s)
+    assert calls == []
+    message = str(info.value)
+    assert message.startswith("[energy] kinetic: ") and len(message) < 2000
+
+
+def test_vector_grammar_fuzz(kinematics):
+    import random
+
+    rng = random.Random(7)
+    alphabet = "x m ' ^ * / + - ( ) , . N B P x y z omega vel pos acc dot cross norm _ 0 1 [ ] ".split()
+    alphabet += [" ", "N.x", "B.y", "__class__"]
+    start = time.perf_counter()
+    for _ in range(3000):
+        text = "".join(rng.choice(alphabet) for _ in range(rng.randint(1, 20)))
+        try:
+            parse_expression(text, NAMES, "fuzz", kinematics)
+        except ExpressionError:
+            pass
+    assert time.perf_counter() - start < 20
+
+
+def test_without_kinematics_attribute_access_stays_refused():
+    with pytest.raises(ExpressionError, match="attribute access"):
+        parse_expression("N.x", NAMES, "[parameters] a")

@@ -166,3 +166,37 @@ def test_errors_name_the_object_and_the_fix():
                              initial={q: 0, q.diff(): 0})
     with pytest.raises(ModelError, match="not a sympy.physics.mechanics Particle or RigidBody"):
         model_from_mechanics("x", [q], N, O, ["bob"], initial={q: 0, q.diff(): 0})
+
+
+def test_frames_and_points_of_the_bodies_are_declared():
+    """The SymPy frames and points become the model's: vector functions in expressions give
+    SymPy's own angular velocities and point velocities."""
+    import numpy as np
+    import sympy as sp
+    import sympy.physics.mechanics as me
+
+    from nonideal import model_from_mechanics
+
+    q1, q2 = me.dynamicsymbols("q1 q2")
+    l, m = sp.symbols("l m")
+    N, O = me.ReferenceFrame("N"), me.Point("O")
+    O.set_vel(N, 0)
+    A = N.orientnew("A", "Axis", (q1, N.z))
+    B = A.orientnew("B", "Axis", (q2, A.x))
+    G = O.locatenew("G", l * A.x + l / 2 * B.y)
+    G.set_vel(N, G.pos_from(O).dt(N))
+    P = O.locatenew("P", l * A.x)
+    body = me.RigidBody("link", G, B, m, (me.inertia(B, 1, 2, 3), G))
+    model = model_from_mechanics("two axes", [q1, q2], N, O, [body], points=[P],
+                                 parameters={"l": 0.7, "m": 1.0})
+    assert [f.name for f in model.frames] == ["B"] and [p.name for p in model.points] == ["G", "P"]
+    vals = {q1: 0.3, q2: -0.8, q1.diff(): 1.1, q2.diff(): 0.4, l: 0.7}
+    ours_vals = {sp.Symbol("q1"): 0.3, sp.Symbol("q2"): -0.8, sp.Symbol("q1'"): 1.1,
+                 sp.Symbol("q2'"): 0.4, l: 0.7}
+    for text, theirs in (("dot(omega(B), N.x)", B.ang_vel_in(N).dot(N.x)),
+                         ("dot(vel(G), N.y)", G.vel(N).dot(N.y)),
+                         ("dot(vel(P), N.x)", P.vel(N).dot(N.x)),
+                         ("dot(B.y, N.z)", B.y.dot(N.z))):
+        ours = float(model.parse(text, "test").xreplace(ours_vals))
+        want = float(me.msubs(theirs, vals))
+        assert np.isclose(ours, want, atol=1e-12), text

@@ -27,7 +27,7 @@ def _section(doc: str, heading: str) -> str:
 
 def test_every_table_has_its_section(doc):
     for key in modelfile.TOP_KEYS:
-        arrays = {"bodies", "loads", "constraints", "contacts", "controls"}
+        arrays = {"bodies", "loads", "constraints", "contacts", "controls", "frames", "points"}
         _section(doc, f"[[{key}]]" if key in arrays else f"[{key}]")
 
 
@@ -38,6 +38,8 @@ def test_every_key_is_documented_in_its_section(doc):
     tables["[[controls]]"] = modelfile.CONTROL_KEYS
     tables["[[bodies]]"] = set().union(*modelfile.BODY_KEYS.values())
     tables["[[loads]]"] = set().union(*modelfile.LOAD_KEYS.values())
+    tables["[[frames]]"] = modelfile.FRAME_KEYS
+    tables["[[points]]"] = modelfile.POINT_KEYS
     # in its table's section, or in a section of its own that names it in backquotes (the
     # sections that document a group of features together, e.g. `[[constraints]] losses`)
     missing = [f"{table} {key}" for table, keys in tables.items() for key in keys

@@ -49,3 +49,25 @@ def test_animate_option_checks_the_format_before_running(tmp_path):
     proc = run_cli("simulate", DATA_DIR.parent.parent / "docs" / "rod.toml", "--animate", tmp_path / "a.avi")
     assert proc.returncode == 2 and "--animate" in proc.stderr and ".gif" in proc.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_animation_of_shapes_is_three_dimensional(tmp_path):
+    """A model with contacts from geometry is drawn in 3-D: the shape (here a disk's rim), the
+    plane, the contact's path; a .png holds the last frame."""
+    import numpy as np
+    from PIL import Image
+
+    from nonideal import gallery
+    from nonideal.plotting import animate_trajectory
+
+    model = gallery.load("euler-disk")
+    traj = nonideal.simulate(model, times=np.linspace(0, 0.2, 6))
+    animate_trajectory(traj, model, tmp_path / "disk.gif", frames=6, fps=5)
+    with Image.open(tmp_path / "disk.gif") as im:
+        assert im.n_frames == 6
+    animate_trajectory(traj, model, tmp_path / "disk.png")
+    with Image.open(tmp_path / "disk.png") as im:
+        pixels = np.asarray(im.convert("RGB"), float)
+    r, g, b = pixels[..., 0], pixels[..., 1], pixels[..., 2]
+    orange = ((r > g + 30) & (g > b + 30)).sum()          # the disk's face (orange, shaded)
+    assert orange > 500

@@ -108,7 +108,18 @@ def servo_equilibrium(model: Model, q=None, t: float | None = None) -> ServoEqui
         reasons.append(f"the reactions and controls cannot balance the forces (residual "
                        f"{residual:.3g} of |Q|): no choice of the controls holds the system at rest")
     controls, multipliers = {}, {}
+    shared, _, C = kernel.dyn.shared_rows
     for k, i in enumerate(rows):
         r = kernel.rows[i]
-        (controls if r.reaction_kind == "servo" else multipliers)[r.name] = float(sol[k])
+        # a program realized by the shared controls: its multiplier is no control force
+        into = controls if r.reaction_kind == "servo" and r.name not in shared else multipliers
+        into[r.name] = float(sol[k])
+    if shared:      # the shared controls u = C mu (Béghin 1922), under their own names
+        from ...numeric.kernel import Compiled
+
+        coef = Compiled(kernel.symbols, {"c": [c for row in C for c in row]})
+        Cn = np.asarray(coef.batch(x[None, :]), dtype=float).reshape(len(model.controls), len(shared))
+        mu = np.array([multipliers[name] for name in shared])
+        for a, ctl in enumerate(model.controls):
+            controls[ctl.name] = float(Cn[a] @ mu)
     return ServoEquilibrium(not reasons, residual, controls, multipliers, reasons)

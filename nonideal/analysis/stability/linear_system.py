@@ -22,11 +22,13 @@ from ...errors import LinearizationUndefined, ModelError, did_you_mean
 from ...modeling.expressions import parse_expression
 from ...modeling.model import Model
 from ...modeling.symbols import to_se, to_sp
+from ...numeric.display import number
 from ...numeric.kernel import Compiled
 
 __all__ = ["LinearKernel", "kernel_of", "Partition", "partition", "tangent", "state_matrices",
            "saddle", "solve", "Point", "NEWTON_STEPS", "check_parameters", "clean",
-           "parse_state", "natural_frequencies", "ignorable_set"]
+           "parse_state", "natural_frequencies", "ignorable_set", "parameter_substitution",
+           "exact_number"]
 
 NEWTON_STEPS = 40
 
@@ -117,9 +119,10 @@ class LinearKernel:
             res[key] = out[start:start + nr * nc].reshape(nr, nc)
         return res
 
-    def symbolic(self, t, q, v, a, lam, values: Mapping[str, float], keep: Sequence[str]) -> dict:
-        """The blocks as SymPy matrices in the parameters *keep* (the rest substituted).
-        *q*, *v*, *a*, *lam* may be SymPy expressions in those parameters."""
+    def symbolic(self, t, q, v, a, lam, fixed: Mapping[str, sp.Expr]) -> dict:
+        """The blocks as SymPy matrices in the parameters not in *fixed* (those substituted:
+        see :func:`parameter_substitution`).  *q*, *v*, *a*, *lam* may be SymPy expressions in
+        the parameters kept."""
         dyn = self.dyn
         sub = {dyn.t: to_se(t)}
         for sym, val in zip(dyn.q, q):
@@ -131,14 +134,53 @@ class LinearKernel:
         for sym, val in zip(self.lam, lam):
             sub[sym] = to_se(val)
         for sym in dyn.params:
-            if str(sym) not in keep:
-                sub[sym] = se.Float(values[str(sym)]) if not float(values[str(sym)]).is_integer() \
-                    else se.Integer(int(values[str(sym)]))
+            if str(sym) in fixed:
+                sub[sym] = to_se(fixed[str(sym)])
         res = {}
         for key, (nr, nc, start) in self.shapes.items():
             items = [to_sp(se.sympify(x).subs(sub)) for x in self.flat[start:start + nr * nc]]
             res[key] = sp.Matrix(nr, nc, items) if nr and nc else sp.zeros(nr, nc)
         return res
+
+
+def exact_number(value: float) -> sp.Expr:
+    """*value* as an exact SymPy number: an integer, else the rational of its shortest decimal
+    (``9.81 -> 981/100``), so that symbolic work on it leaves no rounding residue."""
+    value = float(value)
+    if value.is_integer():
+        return sp.Integer(int(value))
+    return sp.Rational(repr(value))
+
+
+def parameter_substitution(model: Model, keep: Sequence[str]) -> dict[str, sp.Expr]:
+    """What replaces each parameter not in *keep* in a result symbolic in *keep*.
+
+    A derived parameter (given by an expression in others, :attr:`Parameter.definition`)
+    that depends, directly or through other derived ones, on a parameter kept is replaced by
+    its definition expanded down to the kept parameters and the numbers of the rest (the
+    moments of inertia ``A = m*r^2/4`` of a disk stay functions of ``r`` under ``--symbolic r``);
+    every other parameter by its value as an exact number (:func:`exact_number`)."""
+    keep = set(keep)
+    symbols = {name: sp.Symbol(name) for name in model.parameters}
+    done: dict[str, sp.Expr] = {}
+
+    def expanded(name: str, trail: tuple = ()) -> sp.Expr:
+        if name in keep:
+            return symbols[name]
+        if name in done:
+            return done[name]
+        p = model.parameters[name]
+        out = exact_number(p.value)
+        if p.definition and name not in trail:
+            expr = parse_expression(p.definition, symbols, f"[parameters] {name}")
+            inner = {s: expanded(s.name, trail + (name,)) for s in expr.free_symbols
+                     if s.name in symbols}
+            if any(e.free_symbols & {symbols[k] for k in keep} for e in inner.values()):
+                out = expr.xreplace(inner)
+        done[name] = out
+        return out
+
+    return {name: expanded(name) for name in model.parameters if name not in keep}
 
 
 def kernel_of(model: Model, controls: Sequence[str]) -> LinearKernel:
@@ -360,11 +402,25 @@ class Point:
         b0 = self.blocks(q, v)
         K = saddle(b0, True)
         rhs = -np.concatenate([b0["E"].ravel(), b0["C"].ravel()])
-        sol = solve(K, rhs, True, "the motion is undetermined at this state: the system "
-                     "[[M, -B], [G, 0]] is singular (dependent constraint rows, or a servo "
-                     "constraint its control cannot realize)", self.k.model)
+        sol = solve(K, rhs, True, self.singular_what(q, v, b0), self.k.model)
         a, lam = sol[:self.n], sol[self.n:]
         return a, lam, self.blocks(q, v, a, lam)
+
+    def singular_what(self, q, v, b0) -> str:
+        """Why the acceleration-level system is singular at the state, with the state: the mass
+        matrix itself (a model without constraints rows, or M singular: a singular point of the
+        coordinates, such as a polar angle at its pole) or the constraint rows."""
+        names = list(self.k.model.coordinates)
+        state = ", ".join([f"{c} = {number(x)}" for c, x in zip(names, q)]
+                          + [f"{c}' = {number(x)}" for c, x in zip(names, v) if number(x) != "0"])
+        M = b0["E_a"]
+        sv = np.linalg.svd(M, compute_uv=False) if M.size else np.zeros(0)
+        if self.k.r == 0 or (sv.size and sv[-1] <= 1e-12 * max(1.0, sv[0])):
+            return (f"the mass matrix M is singular at the state ({state}): the coordinates are "
+                    "singular there (as a polar angle at its pole), the accelerations are undefined")
+        return (f"the motion is undetermined at the state ({state}): the system [[M, -B], [G, 0]] "
+                "is singular (dependent constraint rows, or a servo constraint its control cannot "
+                "realize)")
 
     def complete(self, q, v, part: Partition):
         """Dependent coordinates from f = 0 and dependent velocities from c = 0 (Newton)."""

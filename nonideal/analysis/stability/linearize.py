@@ -52,12 +52,13 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
-from ...errors import ModelError, NotAnEquilibrium, did_you_mean
+from ...errors import LinearizationUndefined, ModelError, NotAnEquilibrium, did_you_mean
 from ...modeling.model import Model
-from .linear_system import (NEWTON_STEPS, LinearKernel, Partition, Point, check_parameters, clean,
-                            ignorable_set, kernel_of, natural_frequencies, parse_state, partition,
-                            saddle, solve, state_matrices)
+from ...numeric.display import number
+from .linear_system import (NEWTON_STEPS, Partition, Point, check_parameters, clean, ignorable_set,
+                            kernel_of, natural_frequencies, parse_state, partition, state_matrices)
 from .routh import analyse, controllability
+from .symbolic import symbolic_matrices
 
 __all__ = ["Linearization", "linearize", "ABOUT"]
 
@@ -168,8 +169,8 @@ class Linearization:
         the conditions, the verdict and why."""
         lines = [f"{self.model}: first approximation about the "
                  + ("steady motion" if self.about == "steady" else "equilibrium")]
-        state = ", ".join(f"{k} = {v:.10g}" for k, v in self.q.items())
-        moving = ", ".join(f"{k}' = {v:.10g}" for k, v in self.qdot.items() if v)
+        state = ", ".join(f"{k} = {number(v)}" for k, v in self.q.items())
+        moving = ", ".join(f"{k}' = {number(v)}" for k, v in self.qdot.items() if number(v) != "0")
         lines.append(f"  state: {state}" + (f", {moving}" if moving else ""))
         if self.residual:
             lines.append(f"  (found by Newton from the guess; residual rate at the guess {self.residual:.3g})")
@@ -371,10 +372,10 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
     A_r, B_r = clean(A[np.ix_(stay, stay)]), clean(Bm[stay])
     A_sym = B_sym = None
     if symbolic:
-        A_sym, B_sym = _symbolic(k, model, t0, q, v, given, part, symbolic, values, kept, rated)
+        A_sym, B_sym = symbolic_matrices(k, model, t0, q, v, given, part, symbolic, values, kept, rated)
         A_sym = A_sym.extract(stay, stay)
         B_sym = B_sym.extract(stay, list(range(B_sym.cols)))
-    info = analyse(A_r, A_sym, symbolic, [variables[i] for i in stay])
+    info = analyse(A_r, A_sym, symbolic, [variables[i] for i in stay], about == "equilibrium")
     ctrl = controllability(A_r, B_r) if controls else {}
     freqs = natural_frequencies(pt, q, v, part, kept) if about == "equilibrium" else ()
     dependent = [names_q[j] for j in part.coords_D] + [names_v[j] for j in part.vel_D]
@@ -437,7 +438,12 @@ def _newton(pt: Point, q, v, part, kept, rated, given, about, names_v, scale):
         free_v = [] if about == "equilibrium" else [j for j in part.vel_I if j not in kept and j not in held]
         cols = [part.coords_I.index(j) for j in kept] + [nI + part.vel_I.index(j) for j in free_v]
         for _ in range(NEWTON_STEPS):
-            R, a, lam, b = _rates(pt, qq, vv, kept, rated)
+            try:
+                R, a, lam, b = _rates(pt, qq, vv, kept, rated)
+            except LinearizationUndefined as exc:
+                # Newton ran onto a singular state (a coordinate singularity): no steady motion
+                # there; the guess's neighbourhood has none it could reach
+                return q, v, False, best[:3] + (str(exc),)
             size = float(np.max(np.abs(R), initial=0.0))
             if size < best[0]:
                 best = (size, qq.copy(), vv.copy())
@@ -468,7 +474,11 @@ def _not_steady(model, about, names_q, names_v, q, v, R, kept, rated, best) -> N
         state += ", " + ", ".join(f"{c} = {x:.6g}" for c, x in zip(names_v, v) if x)
     what = "an equilibrium" if about == "equilibrium" else "a steady motion"
     text = f"--at: the state ({state}) is not {what}: the residual rates are {worst}"
-    if best is not None:
+    if best is not None and len(best) > 3:
+        text += (f"; Newton from this guess ran onto a state where {best[3]}; no "
+                 f"{what.split(' ', 1)[1]} was found near the guess (smallest residual "
+                 f"{best[0]:.3g} on the way)")
+    elif best is not None:
         text += (f"; Newton from this guess did not converge (smallest residual {best[0]:.3g} "
                  f"after {NEWTON_STEPS} steps)")
     fix = ("give a guess closer to an equilibrium in --at (where the forces balance)"
@@ -478,58 +488,6 @@ def _not_steady(model, about, names_q, names_v, q, v, R, kept, rated, best) -> N
     if best is None:
         fix = "drop --exact to let Newton find the state from this guess, or " + fix
     return NotAnEquilibrium(text + ". Fix: " + fix, _src(model))
-
-
-def _symbolic(k: LinearKernel, model, t0, q, v, given, part, symbolic, values, kept, rated):
-    """A and B in the *symbolic* parameters (the state: expressions given in --at, else the numbers)."""
-    names_q = list(model.coordinates)
-    names_v = [c + "'" for c in names_q]
-    subs = {sp.Symbol(name): val for name, val in values.items()}
-
-    fixed = {sym: (sp.Integer(int(val)) if float(val).is_integer() else sp.Float(val))
-             for sym, val in subs.items() if str(sym) not in symbolic}
-
-    def entry(name, num):
-        expr = given.get(name)
-        if expr is not None and abs(float(expr.xreplace(subs)) - num) <= 1e-9 * (1 + abs(num)):
-            return expr.xreplace(fixed)
-        return _exact(num)
-
-    qs = [entry(c, x) for c, x in zip(names_q, q)]
-    vs = [entry(c, x) for c, x in zip(names_v, v)]
-    n, r = k.n, k.r
-    b0 = k.symbolic(t0, qs, vs, [0] * n, [0] * r, values, symbolic)
-    K = saddle(b0, False)
-    rhs = -sp.Matrix.vstack(b0["E"], b0["C"])
-    sol = solve(K, rhs, False, "the motion is undetermined at this state", model)
-    a = [sp.simplify(x) for x in sol[:n]]
-    lam = [sp.simplify(x) for x in sol[n:]]
-    rates = [vs[j] for j in kept] + [a[j] for j in rated]
-    rng = np.random.default_rng(3)
-    syms = [sp.Symbol(s_) for s_ in symbolic]
-    for _ in range(2):
-        trial = dict(subs)
-        for s_ in syms:
-            trial[s_] = subs[s_] * (1 + 0.1 * rng.standard_normal())
-        bad = [float(abs(sp.N(sp.sympify(x).xreplace(trial)))) for x in rates]
-        if bad and max(bad) > 1e-8 * max(1.0, max(abs(float(y)) for y in trial.values())):
-            raise NotAnEquilibrium(
-                f"--symbolic {', '.join(symbolic)}: the state moves with these parameters (at "
-                f"other values of them the residual rates are up to {max(bad):.3g}); give the "
-                "state in --at as expressions in them (e.g. \"phi=acos(g/(l*w^2))\") or make "
-                "them numeric", _src(model))
-    b = k.symbolic(t0, qs, vs, a, lam, values, symbolic)
-    return state_matrices(b, part, n, False, model)
-
-
-def _exact(num: float) -> sp.Expr:
-    """A state value as a SymPy number: 0, an integer, a simple multiple of pi, else a Float."""
-    if abs(num) < 1e-9:
-        return sp.Integer(0)
-    guess = sp.nsimplify(num, [sp.pi], tolerance=1e-10)
-    if sp.count_ops(guess) <= 4 and abs(float(guess) - num) <= 1e-9 * (1 + abs(num)):
-        return guess
-    return sp.Float(num)
 
 
 def _src(model: Model):

@@ -38,7 +38,7 @@ from ...modeling.model import Model
 from .linear_system import Point, check_parameters, clean, ignorable_set, kernel_of, partition, state_matrices
 from .routh import analyse
 
-__all__ = ["ProgramLinearization", "linearize_program"]
+__all__ = ["ProgramLinearization", "linearize_program", "persidsky_bound"]
 
 
 @dataclass(frozen=True)
@@ -56,9 +56,12 @@ class ProgramLinearization:
         The programmed motion at the samples.
     lognorm : ndarray, shape (N,)
         ``mu(A(t))``.
-    persidsky_alpha : float
-        ``-int mu dt / (T - t0)``: positive when the logarithmic-norm bound proves uniform
-        asymptotic stability over the interval.
+    persidsky_alpha, persidsky_beta : float
+        The constants of the bound ``int_s^t mu dt <= -alpha (t - s) + beta`` for every
+        sub-interval ``[s, t]`` (:func:`persidsky_bound`): ``alpha > 0`` with a moderate ``beta``
+        proves uniform asymptotic stability over the interval.
+    average_decay : float
+        ``-int mu dt / (T - t0)``, the average decay from t0 (not a uniform bound).
     exponent : float
         ``ln |Phi(T, t0)| / (T - t0)``.
     controllability_rank : ndarray of int, shape (N,)
@@ -85,6 +88,8 @@ class ProgramLinearization:
     ignorable: tuple = ()
     dependent: tuple = ()
     frozen: dict = field(default_factory=dict)
+    persidsky_beta: float = 0.0
+    average_decay: float = 0.0
     W: np.ndarray | None = None
     held: tuple = ()
 
@@ -113,7 +118,8 @@ class ProgramLinearization:
             "hurwitz": self.frozen.get("hurwitz", []), "conditions": [],
             "controllability": {"rank": int(self.controllability_rank.min()) if self.controls else 0, "n": n},
             "t": self.t.tolist(), "A_t": self.A.tolist(), "lognorm": self.lognorm.tolist(),
-            "persidsky_alpha": self.persidsky_alpha, "exponent": self.exponent,
+            "persidsky_alpha": self.persidsky_alpha, "persidsky_beta": self.persidsky_beta,
+            "average_decay": self.average_decay, "exponent": self.exponent,
             "ignorable": list(self.ignorable), "dependent": list(self.dependent),
             "held_by_program": [{"name": k, "condition": f"{e} = 0"} for k, e in self.held],
         }
@@ -138,7 +144,9 @@ class ProgramLinearization:
         for k in sorted({0, len(self.t) // 2, len(self.t) - 1}):
             lines.append(f"  A({self.t[k]:.6g}) = " + np.array2string(self.A[k], precision=6).replace("\n", "\n" + " " * 14))
         lines.append(f"  logarithmic norm mu(A(t)): from {self.lognorm.min():.6g} to {self.lognorm.max():.6g}; "
-                     f"alpha = -int mu dt/(T - t0) = {self.persidsky_alpha:.6g}")
+                     f"uniform bound int_s^t mu dt <= -alpha (t - s) + beta: alpha = "
+                     f"{self.persidsky_alpha:.6g}, beta = {self.persidsky_beta:.3g}; average decay "
+                     f"-int mu dt/(T - t0) = {self.average_decay:.6g}")
         lines.append(f"  characteristic exponent estimate ln|Phi(T)|/(T - t0) = {self.exponent:.6g}")
         if self.controls:
             lines.append(f"  controllability W(t) = [L1..Ln]: rank {int(self.controllability_rank.min())} "
@@ -149,6 +157,33 @@ class ProgramLinearization:
 
 def _lognorm(A: np.ndarray) -> float:
     return float(np.linalg.eigvalsh(0.5 * (A + A.T)).max()) if A.size else 0.0
+
+
+def persidsky_bound(mu: np.ndarray, times: np.ndarray) -> tuple[float, float, float]:
+    """The constants of Persidsky's bound ``int_s^t mu dt <= -alpha (t - s) + beta`` for every
+    ``t0 <= s <= t <= T`` (the uniformity the criterion asks for: the same ``alpha``, ``beta``
+    from every initial instant), from the logarithmic norm *mu* at the sample *times*.
+
+    With ``beta = 0`` the bound over short sub-intervals forces ``alpha = -max mu`` (the slowest
+    instantaneous decay, e.g. the regulator's ``k1/(k rho_max^2)``, Manglieva & Beknazarov
+    2022, (3.13)); when that is not positive, ``alpha`` is the average decay ``-int mu / (T -
+    t0)`` and ``beta`` the largest rise of ``int mu + alpha t`` over any sub-interval (it is 0
+    only when the decay is uniform).  The average alone is not a uniform bound: a decay from
+    ``t0`` says nothing about a stretch where ``mu`` is larger.
+
+    Returns
+    -------
+    alpha, beta, average : float
+    """
+    integral = _trapezoid(mu, times)
+    span = times[-1] - times[0]
+    average = -integral[-1] / span if span > 0 else 0.0
+    uniform = -float(np.max(mu)) if mu.size else 0.0
+    if uniform > 0:
+        return uniform, 0.0, average
+    J = integral + average * (times - times[0])
+    rise = J - np.minimum.accumulate(J)           # J(t) - min_{s <= t} J(s)
+    return average, float(max(0.0, rise.max(initial=0.0))), average
 
 
 def _trapezoid(y, x):
@@ -214,10 +249,8 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
     Bs = np.array([clean(B[stay]) for B in Bs])
     nx = len(stay)
     mu = np.array([_lognorm(A) for A in As])
-    integral = _trapezoid(mu, times)
     span = times[-1] - times[0]
-    alpha = -integral[-1] / span
-    beta = float(np.max(integral + alpha * (times - times[0])))
+    alpha, beta, average = persidsky_bound(mu, times)
     # fundamental matrix with A(t) interpolated
     spline = CubicSpline(times, As.reshape(len(times), -1), axis=0)
     if nx:
@@ -228,11 +261,11 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
     else:
         exponent = 0.0
     tol = 1e-6 * max(1.0, float(np.abs(As).max(initial=0.0)))
-    if alpha > tol and mu.max() <= 0 or (alpha > tol and beta < np.log(1e3)):
+    if alpha > tol and beta < np.log(1e3):
         verdict = "asymptotically stable"
-        reason = (f"int mu(A) dt <= -alpha (t - t0) + beta on the interval with alpha = {alpha:.6g} > 0, "
-                  f"beta = {beta:.3g}: Persidsky's criterion (uniform exponential decay of the first "
-                  "approximation) holds on the interval computed")
+        reason = (f"int_s^t mu(A) dt <= -alpha (t - s) + beta for every s <= t in the interval with "
+                  f"alpha = {alpha:.6g} > 0, beta = {beta:.3g}: Persidsky's criterion (uniform "
+                  "exponential decay of the first approximation) holds on the interval computed")
     elif exponent > tol:
         verdict = "unstable"
         reason = (f"the perturbations grow along the motion: ln|Phi(T)|/(T - t0) = {exponent:.6g} > 0 "
@@ -271,6 +304,7 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
         model=model.name, t=times, variables=tuple(variables[i] for i in stay), A=As, B=Bs,
         controls=tuple(controls), q={c: traj.q[:, j] for j, c in enumerate(names_q)},
         qdot={c: traj.qd[:, j] for j, c in enumerate(names_q)}, lognorm=mu, persidsky_alpha=float(alpha),
-        exponent=exponent, controllability_rank=ranks, verdict=verdict, reason=reason, W=W, held=k.held,
+        exponent=exponent, persidsky_beta=float(beta), average_decay=float(average),
+        controllability_rank=ranks, verdict=verdict, reason=reason, W=W, held=k.held,
         ignorable=tuple(names_q[j] for j in ign),
         dependent=tuple([names_q[j] for j in part.coords_D] + [names_v[j] for j in part.vel_D]), frozen=frozen)

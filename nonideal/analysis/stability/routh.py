@@ -114,8 +114,12 @@ def null_directions(A: np.ndarray, k: int, variables: Sequence[str]) -> list:
     return [v for v, w in zip(variables, weight) if w > 0.1 * weight.max()]
 
 
-def verdict_of(eigenvalues: np.ndarray) -> tuple[str, str]:
-    """("asymptotically stable" | "unstable" | "critical", why) by the first approximation."""
+def verdict_of(eigenvalues: np.ndarray, equilibrium: bool = True) -> tuple[str, str]:
+    """("asymptotically stable" | "unstable" | "critical", why) by the first approximation.
+
+    In the critical case Lagrange--Dirichlet's theorem is named only for an *equilibrium*
+    (about a steady motion -- a top spinning above its pivot -- the potential energy has no
+    minimum to speak of: the motion is gyroscopically stabilized or not)."""
     if eigenvalues.size == 0:
         return "critical", "no perturbation variables are left"
     tol = 1e-9 * max(1.0, float(np.abs(eigenvalues).max()))
@@ -130,13 +134,15 @@ def verdict_of(eigenvalues: np.ndarray) -> tuple[str, str]:
                                          "first approximation (Lyapunov)")
     on_axis = int(np.sum(np.abs(eigenvalues.real) <= tol))
     return "critical", (f"{on_axis} eigenvalue(s) on the imaginary axis and none to the right: Lyapunov's "
-                        "critical case, the first approximation does not decide (a conservative "
-                        "system at a potential minimum is stable by Lagrange--Dirichlet)")
+                        "critical case, the first approximation does not decide"
+                        + (" (a conservative system at a strict minimum of its potential energy is "
+                           "stable by Lagrange--Dirichlet)" if equilibrium else ""))
 
 
 def analyse(A: np.ndarray, A_symbolic: sp.Matrix | None = None, symbolic: Sequence[str] = (),
-            variables: Sequence[str] = ()) -> dict:
-    """Eigenvalues, characteristic polynomial (in ``s``), Hurwitz minors, conditions, verdict.
+            variables: Sequence[str] = (), equilibrium: bool = True) -> dict:
+    """Eigenvalues, characteristic polynomial (in ``s``), Hurwitz minors, conditions, verdict
+    (*equilibrium*: about an equilibrium, else a steady or programmed motion).
 
     Eigenvalues that are one multiple zero eigenvalue split by rounding (:func:`zero_cluster`)
     are reported as zeros; the verdict says so and names the *variables* they move."""
@@ -175,14 +181,17 @@ def analyse(A: np.ndarray, A_symbolic: sp.Matrix | None = None, symbolic: Sequen
     else:
         conditions = routh_hurwitz_conditions(coeffs, minors)
     conditions = [_integral_floats(c) for c in conditions]
-    verdict, reason = verdict_of(eig)
+    verdict, reason = verdict_of(eig, equilibrium)
     reason += note
+    # the odd powers vanish: P(s) = Z(s^2) (even degree) or s Z(s^2) (odd degree: a zero root)
+    form = "Z(s^2)" if (len(coeffs) - 1) % 2 == 0 else "s Z(s^2)"
     if even and verdict == "critical":
-        reason += ("; the polynomial is even in s (no dissipation): the roots are on the imaginary "
-                   "axis iff the roots of P(z = s^2) are real and negative (gyroscopic stability, "
-                   "Kelvin--Chetaev)")
+        reason += (("; the polynomial is even in s" if form == "Z(s^2)" else
+                    "; the polynomial is s times an even polynomial, P(s) = s Z(s^2) (a zero root)")
+                   + f" (no dissipation): the {'' if form == 'Z(s^2)' else 'other '}roots are on the imaginary axis iff the roots "
+                   "of Z(z), z = s^2, are real and negative (gyroscopic stability, Kelvin--Chetaev)")
     meaning = ("" if A_symbolic is None else
-               "roots on the imaginary axis, simple (no dissipation: P(s) = Z(s^2), the "
+               f"roots on the imaginary axis, simple (no dissipation: P(s) = {form}, the "
                "roots of Z real, negative, distinct)" if even else "asymptotic stability (Lienard--Chipart)")
     return {"eigenvalues": eig, "polynomial": polynomial, "coefficients": coeffs, "hurwitz": minors,
             "conditions": conditions, "conditions_meaning": meaning, "verdict": verdict, "reason": reason}

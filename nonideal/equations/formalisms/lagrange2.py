@@ -132,13 +132,14 @@ def _initial_point(model: Model, branch: dict[str, float] | None = None):
 
 def _mixed(f: sp.Expr, x: sp.Symbol) -> bool:
     """True when *x* enters both algebraically and inside a transcendental function (or inside
-    functions of different families), e.g. ``x + sin(x)``: no closed form, and ``sympy.solve``
-    can spend seconds finding that out."""
+    functions of different families), e.g. ``x + sin(x)``, or a function of x under a root
+    (``sqrt(sin(x)^2 + ...)``, a contact point on a wheel): no closed form, and
+    ``sympy.solve`` can spend seconds to minutes finding that out."""
     funcs: set = set()
-    algebraic = False
+    algebraic = radical = False
 
     def walk(e):
-        nonlocal algebraic
+        nonlocal algebraic, radical
         if not e.has(x):
             return
         if e == x:
@@ -146,13 +147,15 @@ def _mixed(f: sp.Expr, x: sp.Symbol) -> bool:
         elif isinstance(e, sp.Function):
             funcs.add(type(e))
         else:
+            if isinstance(e, sp.Pow) and not e.exp.is_Integer:
+                radical = True
             for a in e.args:
                 walk(a)
 
     walk(f)
     trig = {sp.sin, sp.cos, sp.tan, sp.cot}
     other = funcs - trig
-    return bool(funcs) and (algebraic or len(other) > 1 or bool(other and funcs & trig))
+    return bool(funcs) and (algebraic or radical or len(other) > 1 or bool(other and funcs & trig))
 
 
 def _solve(f: sp.Expr, x: sp.Symbol) -> list:
