@@ -33,8 +33,9 @@ from nonideal.simulation import guards, hybrid  # noqa: E402
 from nonideal.simulation.hybrid import simulate  # noqa: E402
 
 
-def ends_only(step, events, armed, tols, g_prev, g_new):
-    """Sign changes between the ends of the step only (Brent's method on the dense output)."""
+def ends_only(step, events, armed, tols, g_prev, g_new, rates=(None, None)):
+    """Sign changes between the ends of the step only (Brent's method on the dense output;
+    the rates of the force guards are not read)."""
     hits = []
     for k, ev in enumerate(events):
         if armed[k] and g_prev[k] > 0 >= g_new[k]:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import errno
 import sys
 from pathlib import Path
 
@@ -79,7 +80,7 @@ def _bare_json(argv: list[str]) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     from .common import numerical_warnings
-    from .terminal import Terminated, printable, signals, stopped
+    from .terminal import Terminated, escaped_output, output_failed, printable, signals, stopped
 
     parser = build_parser()
     try:
@@ -87,8 +88,10 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:   # --help (0) or a usage error (2): return, do not exit
         return int(exc.code or 0)
     try:
-        with signals(), numerical_warnings():
-            return args.func(args)
+        with signals(), numerical_warnings(), escaped_output():
+            code = args.func(args)
+            sys.stdout.flush()  # a full device fails here, not in the interpreter's exit
+            return code
     except ModelError as exc:
         model = getattr(args, "model", None)
         if (exc.source is None and isinstance(model, str) and Path(model).is_file()
@@ -108,6 +111,11 @@ def main(argv: list[str] | None = None) -> int:
         return stopped("terminated")
     except BrokenPipeError:  # pragma: no cover
         return 0
+    except OSError as exc:  # the standard output cannot be written (a full device)
+        if exc.filename is not None or exc.errno not in (errno.ENOSPC, errno.EIO, errno.EFBIG,
+                                                         errno.EDQUOT):
+            raise
+        return output_failed(exc)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -106,11 +106,17 @@ def _read_journal(path: Path, header: dict) -> list[dict]:
                          "the journal to start again")
     for k, line in enumerate(lines[1:], start=2):
         try:
-            rows.append(json.loads(line))
+            row = json.loads(line)
         except json.JSONDecodeError:
             if k != len(lines):   # only the last line can be cut short by an interruption
                 raise ModelError(f"--resume: {path}, line {k}: not a JSON row; the journal is "
                                  "damaged (remove it to start again)") from None
+            continue
+        if not (isinstance(row, dict) and isinstance(row.get("parameters"), dict)):
+            raise ModelError(f"--resume: {path}, line {k}: a row without its 'parameters' (the "
+                             "point it belongs to); the journal is damaged (remove it to start "
+                             "again)")
+        rows.append(row)
     return rows
 
 
@@ -158,7 +164,7 @@ class _Progress:
 
 
 def run(args) -> int:
-    from ..analysis.studies.sweep import parse_vary, sweep, SweepTask
+    from ..analysis.studies.sweep import check_grid, parse_vary, sweep, SweepTask
 
     check_options(args)
     if not args.vary:
@@ -169,6 +175,11 @@ def run(args) -> int:
     for item in args.vary:
         try:
             axes.append(parse_vary(item))
+        except ModelError as exc:
+            problems += exc.problems
+    if axes and not problems:
+        try:  # before anything is written: no journal of a grid refused at once
+            check_grid(axes)
         except ModelError as exc:
             problems += exc.problems
     if "-" in (args.json, args.csv):

@@ -14,12 +14,16 @@ from typing import Any
 
 from ..errors import ModelError
 
-__all__ = ["MAX_FILE_BYTES", "MAX_PARAMETERS", "read_text", "check_size"]
+__all__ = ["MAX_FILE_BYTES", "MAX_PARAMETERS", "MAX_NESTING", "read_text", "check_nesting",
+           "check_size"]
 
 MAX_FILE_BYTES = 2 * 2**20
 """Bytes read from a model file at most (a model of a thousand bodies is a hundred KB)."""
 MAX_PARAMETERS = 20_000
 """Entries of ``[parameters]`` at most (each is checked and resolved)."""
+MAX_NESTING = 64
+"""Levels of nesting of a model file at most (arrays, inline tables, dotted keys and table
+headers together; a model needs four).  Deeper TOML overflows the parser's recursion."""
 
 
 def read_text(path: Path) -> str:
@@ -32,6 +36,9 @@ def read_text(path: Path) -> str:
     """
     source = str(path)
     try:
+        if path.is_fifo() or path.is_socket():  # reading would wait for a writer without end
+            raise ModelError("not a regular file (a named pipe or a socket: reading it would wait "
+                             "for a writer); give the path of a .toml file", source)
         with open(path, "rb") as handle:  # never more than the cap: /dev/zero has no end
             raw = handle.read(MAX_FILE_BYTES + 1)
         if len(raw) > MAX_FILE_BYTES:
@@ -53,6 +60,60 @@ def read_text(path: Path) -> str:
     except OSError as exc:
         raise ModelError(f"cannot read the model file: {exc.strerror or exc}", source) from None
     return text
+
+
+def check_nesting(text: str, source: str) -> None:
+    """Refuse TOML nested deeper than :data:`MAX_NESTING` levels, scanning the text before it
+    is parsed: the brackets of arrays and inline tables open outside strings and comments,
+    plus the dots of the keys (``a.b.c = 1``, ``[a.b.c]``).
+
+    Examples
+    --------
+    >>> check_nesting('x = [[1, 2], {a.b = "[[["}]  # 3 levels', "m.toml")
+    >>> check_nesting("x = " + "[" * 100 + "]" * 100, "m.toml")
+    Traceback (most recent call last):
+    ...
+    nonideal.errors.ModelError: m.toml: nested 65 levels deep at line 1 (the limit is 64; a model file needs a few): is this the right file?
+    """
+    stack: list[tuple[str, int]] = []  # the open brackets, with the key dots before them
+    key, dots, line, start, i, n = True, 0, 1, True, 0, len(text)
+    while i < n:
+        c = text[i]
+        if c in "\"'":
+            quote = c * 3 if text.startswith(c * 3, i) else c
+            i += len(quote)
+            while i < n and not text.startswith(quote, i):
+                line += text[i] == "\n"
+                i += 2 if (c == '"' and text[i] == "\\") else 1
+            i += len(quote)
+            start = False
+            continue
+        if c == "#":
+            while i < n and text[i] != "\n":
+                i += 1
+            continue
+        if c == "\n":
+            line += 1
+            if not stack:
+                key, dots, start = True, 0, True
+        elif c in "[{":
+            stack.append((c, dots))
+            key = c == "{" or start  # an inline table's keys, a table header
+        elif c in "]}":
+            if stack:
+                dots = stack.pop()[1] if stack[-1][0] == "{" else dots
+        elif c == "=":
+            key = False
+        elif c == "," and stack and stack[-1][0] == "{":
+            key, dots = True, stack[-1][1]
+        elif c == "." and key:
+            dots += 1
+        if c not in " \t[\n":
+            start = False
+        if len(stack) + dots > MAX_NESTING:
+            raise ModelError(f"nested {len(stack) + dots} levels deep at line {line} (the limit is "
+                             f"{MAX_NESTING}; a model file needs a few): is this the right file?", source)
+        i += 1
 
 
 def check_size(data: dict[str, Any], source: str) -> None:

@@ -47,6 +47,54 @@ __all__ = ["Parameter", "Constraint", "SimulationSettings", "Model", "RESERVED_N
            "resolve_parameters"]
 
 
+class FrozenMapping(Mapping):
+    """A read-only view of a model's mapping (its parameters, initial values, forces): a
+    Model is immutable, and what later stages derived from it stays valid.
+
+    Examples
+    --------
+    >>> view = FrozenMapping("initial", {"th": 0.5})
+    >>> view["th"] = 1.0
+    Traceback (most recent call last):
+    ...
+    TypeError: a Model is immutable: its initial cannot be changed in place; use model.replace(initial={...}) for a new model, or simulate(model, initial={...}) for one run
+    """
+
+    __slots__ = ("_name", "_data")
+
+    def __init__(self, name: str, data: Mapping):
+        self._name, self._data = name, dict(data)
+
+    def __getitem__(self, key):
+        return self._data[key]
+
+    def __iter__(self):
+        return iter(self._data)
+
+    def __len__(self) -> int:
+        return len(self._data)
+
+    def __repr__(self) -> str:
+        return repr(self._data)
+
+    def __getstate__(self):
+        return (self._name, self._data)
+
+    def __setstate__(self, state):
+        self._name, self._data = state
+
+    def copy(self) -> dict:
+        return dict(self._data)
+
+    def _refuse(self, *args, **kwargs):
+        run = f", or simulate(model, {self._name}={{...}}) for one run" \
+            if self._name in ("initial", "parameters") else ""
+        raise TypeError(f"a Model is immutable: its {self._name} cannot be changed in place; use "
+                        f"model.replace({self._name}={{...}}) for a new model{run}")
+
+    __setitem__ = __delitem__ = update = pop = popitem = clear = setdefault = _refuse
+
+
 @dataclass(frozen=True)
 class Model:
     """A mechanical system as the user declared it.
@@ -126,6 +174,9 @@ class Model:
                                        [c.name for c in self.contacts])
         units, more = units_of(self.units, self.coordinates)
         object.__setattr__(self, "units", units)
+        for name in ("parameters", "initial", "forces"):  # read-only: the model is immutable
+            if isinstance(getattr(self, name), Mapping):
+                object.__setattr__(self, name, FrozenMapping(name, getattr(self, name)))
         problems += more
         if problems:
             raise ModelError(problems, None if self.source == "<api>" else self.source)

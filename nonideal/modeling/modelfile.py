@@ -31,7 +31,7 @@ from typing import Any
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb, is_infinite
 from ..errors import ModelError, did_you_mean, short_repr
-from .limits import check_size, read_text
+from .limits import check_nesting, check_size, read_text
 from .declarations import Control
 from .frames import FIXED, ORIGIN, Frame
 from .points import Point
@@ -105,6 +105,7 @@ def load_model(path: str | Path, parameters: Mapping[str, Any] | None = None) ->
     source = str(path)
     text = read_text(path)
     text = text.removeprefix("\ufeff")  # a byte-order mark some editors write
+    check_nesting(text, source)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -33,10 +33,44 @@ def to_expr(value: Any, names: Mapping[str, sp.Expr], where: str,
     if isinstance(value, str) or isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
         return parse_expression(value, names, where, vectors)
     if isinstance(value, sp.Basic):
+        check_depth(value, where)
         return normalize_sympy(sp.sympify(value), names, where, tuple(coordinates))
     raise ExpressionError(
         f"{where}: expected an expression (string or SymPy), got {type(value).__name__}"
     )
+
+
+MAX_TREE_DEPTH = 500
+"""Levels of a SymPy expression given to a Model at most (the parser's :data:`MAX_DEPTH` for
+text; the equations of motion of a bicycle are some 30 levels deep).  SymPy walks deeper trees
+by recursion, for minutes."""
+
+
+def check_depth(expr: sp.Basic, where: str) -> None:
+    """Refuse a SymPy expression nested deeper than :data:`MAX_TREE_DEPTH`, walked without
+    recursion (``sin(sin(...))`` 3000 deep).
+
+    Examples
+    --------
+    >>> e = sp.Symbol("x")
+    >>> for _ in range(600):
+    ...     e = sp.sin(e, evaluate=False)
+    >>> try:
+    ...     check_depth(e, "potential")
+    ... except ExpressionError as exc:
+    ...     print(exc.problems[0])
+    potential: the expression is nested more than 500 levels deep; build it from parts (parameters, [[bodies]])
+    """
+    stack, seen = [(expr, 1)], set()
+    while stack:
+        node, depth = stack.pop()
+        if depth > MAX_TREE_DEPTH:
+            raise ExpressionError(f"{where}: the expression is nested more than {MAX_TREE_DEPTH} "
+                                  "levels deep; build it from parts (parameters, [[bodies]])")
+        for arg in node.args:
+            if id(arg) not in seen:
+                seen.add(id(arg))
+                stack.append((arg, depth + 1))
 
 
 def normalize_sympy(expr: sp.Basic, names: Mapping[str, sp.Expr], where: str,
@@ -117,27 +151,36 @@ def resolve_parameters(raw: Mapping[str, Any]) -> tuple[dict[str, float], list[s
                 values[name] = float_value(value, where)
             except ExpressionError as exc:
                 problems += exc.problems
-    while pending:
-        ready = {n: e for n, e in pending.items() if all(s.name in values for s in e.free_symbols)}
-        if not ready:
-            for name in sorted(pending):
-                needs = sorted(s.name for s in pending[name].free_symbols if s.name not in values)
-                broken = [n for n in needs if n not in pending]
-                if broken:
-                    why = f"it depends on {', '.join(broken)}, which has no value"
-                elif needs == [name]:
-                    why = "it is defined in terms of itself; give it a number"
-                else:
-                    why = (f"it depends on {', '.join(needs)}: the definitions form a cycle; give "
-                           "one of them a number")
-                problems.append(f"[parameters] {name}: cannot be evaluated -- {why}")
-            break
-        for name, expr in ready.items():
-            del pending[name]
-            try:  # in floating point: exact arithmetic has no bound on its cost
-                values[name] = float_value(expr, f"[parameters] {name}", values, raw[name])
-            except ExpressionError as exc:
-                problems += exc.problems
+    # in dependency order (Kahn): linear in the number of parameters, however long the chains
+    waiting = {n: {s.name for s in e.free_symbols} - set(values) for n, e in pending.items()}
+    users: dict[str, list[str]] = {}
+    for name, needs in waiting.items():
+        for need in needs:
+            users.setdefault(need, []).append(name)
+    ready = [n for n, needs in waiting.items() if not needs]
+    while ready:
+        name = ready.pop()
+        expr = pending.pop(name)
+        try:  # in floating point: exact arithmetic has no bound on its cost
+            values[name] = float_value(expr, f"[parameters] {name}", values, raw[name])
+        except ExpressionError as exc:
+            problems += exc.problems
+            continue
+        for user in users.get(name, ()):
+            waiting[user].discard(name)
+            if not waiting[user]:
+                ready.append(user)
+    for name in sorted(pending):
+        needs = sorted(s.name for s in pending[name].free_symbols if s.name not in values)
+        broken = [n for n in needs if n not in pending]
+        if broken:
+            why = f"it depends on {', '.join(broken)}, which has no value"
+        elif needs == [name]:
+            why = "it is defined in terms of itself; give it a number"
+        else:
+            why = (f"it depends on {', '.join(needs)}: the definitions form a cycle; give "
+                   "one of them a number")
+        problems.append(f"[parameters] {name}: cannot be evaluated -- {why}")
     return values, problems
 
 

@@ -114,11 +114,11 @@ def diagnose_state(model: Model, t: float, q, qd, closed=(), definite: bool = Fa
     if Gk.shape[0]:
         _, sv, Vt = np.linalg.svd(Gk)
         null = Vt[Gk.shape[0]:].T
+        if null.shape[1] == 0:
+            return None
     else:
-        null = np.eye(kernel.n)
-    if null.shape[1] == 0:
-        return None
-    Mr = null.T @ M @ null if Gk.shape[0] else M  # (no rows: null = I, no O(n^3) products)
+        null = None  # no rows: every velocity is allowed (no n x n identity, no O(n^3) products)
+    Mr = null.T @ M @ null if null is not None else M
     Mr = (Mr + Mr.T) / 2
     tol = 1e-10 * max(1.0, float(np.max(np.abs(M))))
     if definite_above(Mr, tol):  # nothing to report (by blocks for a block-diagonal M)
@@ -127,7 +127,7 @@ def diagnose_state(model: Model, t: float, q, qd, closed=(), definite: bool = Fa
     for k in range(len(w)):
         if w[k] > tol or (w[k] < -tol and not definite):
             continue
-        vec = null @ v[:, k]
+        vec = null @ v[:, k] if null is not None else v[:, k]
         vec = vec / vec[np.argmax(np.abs(vec))]
         combo = _combination(vec, names)
         single = [c for c, a in zip(names, vec) if abs(a) > 1e-9]

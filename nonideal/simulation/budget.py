@@ -28,7 +28,7 @@ import time
 import numpy as np
 
 from ..equations.formalisms import FORMS
-from ..errors import ModelError
+from ..errors import ModelError, short_repr
 from ..modeling.arguments import real_number, require_form, require_mapping, require_model, sample_times
 
 __all__ = ["MAX_SAMPLES", "MAX_TIMES", "MAX_STEPS", "PROBE_STEPS", "MAX_SECONDS", "PROBE_SECONDS", "SampleBuffer", "StepBudget",
@@ -158,6 +158,10 @@ def check_arguments(model, t_end, times, form, options: dict) -> None:
     real_number(options.get("max_step"), f, "max_step", positive=True)
     for name in ("parameters", "initial"):
         require_mapping(options.get(name), f, name, "{'m': 2.0}")
+        for key, value in (options.get(name) or {}).items():
+            if isinstance(value, bool) or not isinstance(value, numbers.Real):
+                raise ModelError(f"{f}: {name}[{key!r}] must be a number, got {short_repr(value)} "
+                                 f"(e.g. {name}={{{key!r}: 1.0}})")
     native = options.get("native")
     if native is not None and not isinstance(native, bool):
         raise ModelError(f"{f}: native must be True, False or None (after a phase's first steps), got {native!r}")

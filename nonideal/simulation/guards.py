@@ -63,6 +63,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
+from ..errors import NonidealError
 from ..modes.motion import Motion
 from ..numeric.kernel import SingularMatrix
 
@@ -151,7 +152,7 @@ class StepScan:
         is armed where its function first exceeds *tol*.
         """
         ga, gb = self.ends[k]
-        if armed and not self._worth_probing(k, ga, gb):
+        if armed and not self.worth_probing(k, ga, gb):
             return (self._root(k, self.a, self.b) if ga > 0 >= gb else None), True
         s = self.s
         g = self._samples(k)
@@ -161,15 +162,22 @@ class StepScan:
             if above:
                 start = above[0]
             else:
-                # a peak inside the first interval (a bounce shorter than a fifth of the step)
-                peak = self._maximum(k, s[0], s[2]) if g[1] > g[0] else None
+                # a peak inside the first interval (a bounce shorter than a fifth of the step),
+                # or before the first sample when the function rises from the start
+                peak = self._maximum(k, s[0], s[2]) if g[1] > g[0] else \
+                    self._maximum(k, s[0], s[1]) if self._rises(k) else None
                 if peak is None or peak[1] <= tol:
                     return None, False
                 return self._after(k, peak[0], peak[1]), True
         te = self._scan(k, s[start:], g[start:])
         return te, True
 
-    def _worth_probing(self, k: int, ga: float, gb: float) -> bool:
+    def _rises(self, k: int) -> bool:
+        """Whether function *k* rises at the start of the step (its slope there, when known)."""
+        slopes = self.slopes(k) if self.slopes is not None else None
+        return slopes is not None and slopes[0] > 0
+
+    def worth_probing(self, k: int, ga: float, gb: float) -> bool:
         """Whether the step could bring function *k* to zero inside: when it comes within
         :data:`PROBE_NEAR` times its change across the step of zero, or crosses.  The change is
         ``|g(b) - g(a)|`` and, for the cheap (kinematic: gaps, slips) functions whose slopes at
@@ -312,8 +320,8 @@ class GuardRates:
                 noise = 16 * np.finfo(float).eps * ev.scale(motion) / (e * e)
                 curvature = (gp - 2.0 * g + gm) / (e * e)
                 out[k] = ((gp - gm) / (2.0 * e), np.sign(curvature) * max(abs(curvature) - noise, 0.0))
-        except (ArithmeticError, ValueError, np.linalg.LinAlgError, SingularMatrix):
-            return None
+        except (ArithmeticError, ValueError, np.linalg.LinAlgError, SingularMatrix, NonidealError):
+            return None  # no limit: the probes and the ends still guard the step
         return out
 
     def limit(self, rates, motion: Motion) -> float:

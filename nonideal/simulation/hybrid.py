@@ -37,7 +37,7 @@ from ..modes.switching import impact, select_mode
 from ..modes.validation import validate_state
 from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
 from .guards import GuardRates, Step, event_hits
-from .singular import BRANCHES, JUMP_FROM, SINGULAR, Regularity, explain_stall
+from .singular import BRANCHES, JUMP_FROM, MassGuard, Regularity, explain_stall, singular_level
 from .extended import reduce
 from ..equations.high_order import extension_of
 from .rhs import phase_rhs
@@ -354,7 +354,7 @@ class Simulation:
         Solver = SOLVERS[self.method]
         solver = self.solver
         series = ImpactSeries()
-        regularity = Regularity(self.kernel)
+        regularity, inertia = Regularity(self.kernel), MassGuard(self, t0, y)
         changes = solver.charts.changes if solver.charts is not None else 0
         while t < t_end:
             fun = self.rhs(mode)
@@ -373,7 +373,7 @@ class Simulation:
             ode = Solver(fun, t, y, t_end, **dict(kwargs, max_step=min(self.max_step, guard_rates.limit(rates, motion))))
             g_prev = [ev.value(motion) for ev in events]
             watched = regularity.rows(solver.rows(mode))
-            level = SINGULAR if self.singular == "stop" else JUMP_FROM
+            level = singular_level(self.rtol) if self.singular == "stop" else JUMP_FROM
             regularity.start(motion, watched)
             tols = [self._tolerance(ev, motion) for ev in events]
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
@@ -406,6 +406,7 @@ class Simulation:
                 motion = Motion(solver, mode, t_new, ode.y)
                 g_new = [ev.value(motion) for ev in events]
                 step = Step(solver, mode, ode, motion)
+                inertia.check(step)
                 rates_new = guard_rates.at(motion, h)
                 hits = event_hits(step, events, armed, tols, g_prev, g_new, (rates, rates_new))
                 singular = regularity.crossing(step, watched, level) if watched else None
@@ -415,7 +416,7 @@ class Simulation:
                         regularity.stop(self.model, step.motion(singular), watched)
                     passed = regularity.pass_through(self, mode, fun, step, singular, watched, Solver, atol)
                     if passed is None:  # a near miss, or no smooth branch: guard as "stop" does
-                        level = SINGULAR
+                        level = singular_level(self.rtol)
                         singular = regularity.crossing(step, watched, level, force=True)
                         if singular is not None and (not hits or singular <= min(hits)[0]):
                             regularity.stop(self.model, step.motion(singular), watched)
@@ -454,12 +455,14 @@ class Simulation:
                         break
                     y, new_mode, record = switched
                     events_log.append(record)
-                    limit = series.add(events[k].name, new_mode.label(), te, ye[:n], ye[n:2 * n]) \
+                    limit = series.add(events[k].name, new_mode.contact(events[k].name).label()
+                                       if isinstance(events[k], ContactTouch) else str(events[k].name in new_mode.held),
+                                       te, ye[:n], ye[n:2 * n], record["normal_velocity"], tols[k]) \
                         if isinstance(events[k], (Touch, ContactTouch)) else None
                     if limit is not None and limit.t < t_end:
                         y, new_mode, record = self._accumulate(limit, y, mode, events[k])
                         events_log.append(record)
-                        series.reset()
+                        series.reset(events[k].name)
                         te = limit.t
                         while times is not None and next_time < times.size and times[next_time] < te:
                             emit(times[next_time], y, new_mode)  # within the rest of the series

@@ -60,13 +60,16 @@ from ..modes.switching import effective_compliance
 from ..modes.types import SLIDE
 from .guards import StepScan
 
-__all__ = ["SINGULAR", "JUMP_FROM", "BRANCHES", "LOST", "Regularity", "servo_stall", "mass_stall", "explain_stall"]
+__all__ = ["SINGULAR", "AMPLIFY", "singular_level", "JUMP_FROM", "BRANCHES", "LOST", "Regularity", "servo_stall", "mass_stall", "MassGuard", "explain_stall"]
 
 BRANCHES = ("smooth", "stop")
 """Values of ``[simulation] singular``: go on on the smooth branch, or stop (exit code 3)."""
 
 SINGULAR = 1e-6
 """Regularity below which the constraint rows are treated as singular."""
+AMPLIFY = 1e3
+"""The rows count as singular where their regularity is below this many times the relative
+tolerance (:func:`singular_level`)."""
 SUSPECT = 1e-3
 """Regularity (or determinant of the rows at the two ends of a step) below which a step is
 scanned inside for a singular point."""
@@ -80,9 +83,28 @@ ZERO = 1e-4
 BASE = 4
 """Points before the singular instant whose values and derivatives the extrapolation uses
 (degree ``2 BASE - 1``)."""
+MASS_WATCH = 200
+"""Largest number of coordinates whose mass matrix :class:`MassGuard` watches."""
 BRANCH_TOL = 1e-4
 """Largest change of the velocities (relative) that the projection onto the constraints may make
 to the extrapolated state for it to count as the smooth branch."""
+
+
+def singular_level(rtol: float) -> float:
+    """The regularity below which the rows are singular for a run at relative tolerance
+    *rtol*: :data:`SINGULAR`, or :data:`AMPLIFY` ``rtol`` when larger (at most
+    :data:`SUSPECT`).  The rows fix the motion
+    along their weakest combination only to their error divided by the regularity: at a looser
+    tolerance the integrated motion misses the singular configuration by more (``x^2 + y^2 = 1``
+    with ``y = -cos t``, RK45 at rtol 1e-8: the regularity bottoms out at 3e-6 and the motion
+    turns back on the branch ``x = |sin t|``), and the miss must still be caught.
+
+    Examples
+    --------
+    >>> singular_level(1e-10), singular_level(1e-6)
+    (1e-06, 0.001)
+    """
+    return min(max(SINGULAR, AMPLIFY * float(rtol)), SUSPECT)
 
 
 class Regularity:
@@ -97,6 +119,7 @@ class Regularity:
         self.kernel = kernel
         self.reference = np.zeros(len(kernel.rows))  # the largest |G_i| seen
         self.last = None  # the unit rows at the last accepted state
+        self.last_end = None  # (time, rows, regularity) at the end of the last step scanned by slopes
 
     def start(self, motion, rows: list[int]) -> None:
         """The state that starts a phase (its rows are the reference of the next step)."""
@@ -138,11 +161,23 @@ class Regularity:
         """The first time in *step* (:class:`~nonideal.simulation.guards.Step`) where the
         regularity falls to *level* (:data:`SINGULAR`; :data:`JUMP_FROM` when the run goes on
         through), or None; the step is scanned only when :meth:`suspect` says so (or *force*)."""
-        if not self.suspect(step.motion(step.b), rows, level) and not force:
-            return None
-
         def rho(_, s):
             return self.value(step.motion(s), rows) - level
+        if not self.suspect(step.motion(step.b), rows, level) and not force:
+            # no sign of a crossing at the ends; a dip of the regularity that returns within
+            # the step (the rows becoming dependent and the motion turning back on the
+            # non-smooth branch, x = |sin t|) shows in its slopes at the ends
+            # (explicit Runge-Kutta steps only: their end derivatives give the slopes for free)
+            tangents = step.tangents()
+            if tangents is None:
+                return None
+            last, self.last_end = self.last_end, (step.b, tuple(rows), rho(0, step.b) + level)
+            ends = (last[2] - level if last and last[:2] == (step.a, tuple(rows)) else rho(0, step.a),
+                    self.last_end[2] - level)
+            slopes = ((self.value(tangents[1], rows) - level - ends[0]) / tangents[0],
+                      (ends[1] - self.value(tangents[2], rows) + level) / tangents[0])
+            scan = StepScan(rho, step.a, step.b, [ends], [True], lambda _: slopes)
+            return scan.first_root(0, ends[0] > 0, 0.0)[0] if scan.worth_probing(0, *ends) else None
         ends = (rho(0, step.a), rho(0, step.b))
         return StepScan(rho, step.a, step.b, [ends]).first_root(0, ends[0] > 0, 0.0)[0]
 
@@ -408,6 +443,41 @@ def mass_stall(model, solver, t: float, y: np.ndarray, t0: float, y0: np.ndarray
         "without bound; the kinetic energy is degenerate at this state (check the factors in "
         "front of the velocities), or end the run before it",
         None if model.source == "<api>" else model.source)
+
+
+class MassGuard:
+    """The inertia of a model whose mass matrix varies (with the time or the coordinates),
+    watched at the end of every step: a mass matrix that becomes singular where the motion
+    does not stall (``(1 - t) x'^2/2`` at rest: ``x'' = x'/(1 - t)`` stays 0 and the step
+    goes through t = 1) is reported by :func:`mass_stall` at the first instant where its
+    smallest eigenvalue falls to 1e-6 of its size at the start.  Dense eigenvalues: watched
+    only up to :data:`MASS_WATCH` coordinates (a larger model stalls where its motion does)."""
+
+    def __init__(self, sim, t0: float, y0: np.ndarray):
+        dyn, self.sim = sim.kernel.dyn, sim
+        moving = set(dyn.q) | {dyn.t}
+        self.active = sim.n <= MASS_WATCH and any(v in moving for v in dyn.M.free_symbols)
+        if self.active:
+            self.t0, self.y0 = t0, np.array(y0, dtype=float)
+            # half the level at which mass_stall reports: the root is found below it
+            self.floor = 0.5e-6 * max(float(np.max(np.abs(self._eig(t0, self.y0)))), 1e-300)
+
+    def _eig(self, t, y):
+        solver, n = self.sim.solver, self.sim.n
+        M = np.asarray(solver.kernel.dynamics(solver.input(t, y[:n], y[n:2 * n]))["M"], dtype=float)
+        return np.linalg.eigvalsh((M + M.T) / 2)
+
+    def check(self, step) -> None:
+        """Raise :class:`~nonideal.errors.SingularSystem` when the mass matrix became singular
+        within *step* (:class:`~nonideal.simulation.guards.Step`)."""
+        if not self.active:
+            return
+        low = lambda s: float(self._eig(s, step.state(s))[0]) - self.floor  # noqa: E731
+        if low(step.b) > 0:
+            return
+        a = step.a if low(step.a) > 0 else None
+        t = step.b if a is None else brentq(low, a, step.b, xtol=1e-14 * max(1.0, abs(step.b)))
+        mass_stall(self.sim.model, self.sim.solver, t, step.state(t), self.t0, self.y0)
 
 
 def explain_stall(sim, ode, mode) -> None:

@@ -7,6 +7,7 @@ Safety: the only device node used is /dev/null (and it is restored if a regressi
 it); nothing here writes to /dev/full or any other device."""
 
 import errno
+import io
 import json
 import os
 import socket
@@ -323,3 +324,37 @@ def test_realizability_options_that_do_not_go_together(capsys, argv, message):
     code, out, err = run(capsys, "realizability", BLOCK, *argv)
     assert code == 2 and out == ""
     assert message in err
+
+
+class FullDevice:
+    """A standard output on a full device (what ``> /dev/full`` gives), without a descriptor
+    (so that nothing of the test process is redirected)."""
+
+    def write(self, text):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    def flush(self):
+        pass
+
+    def fileno(self):
+        raise io.UnsupportedOperation("no descriptor")
+
+
+def test_a_full_standard_output_is_one_line_and_exit_2(capsys, monkeypatch):
+    monkeypatch.setattr("sys.stdout", FullDevice())
+    code = main(["simulate", str(PENDULUM), *SHORT])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err == "error: cannot write the output to the standard output: No space left on device\n"
+
+
+def test_a_right_to_left_override_in_a_name_is_shown_escaped(tmp_path):
+    text = PENDULUM.read_text()
+    name = next(line for line in text.splitlines() if line.startswith("name ="))
+    path = tmp_path / "bidi.toml"
+    path.write_text(text.replace(name, 'name = "pendulum\u202e1lmth.exe"'))
+    for args in (("check", path), ("simulate", path, *SHORT)):
+        out = run_cli(*args)
+        assert out.returncode == 0, out.stderr
+        assert "\u202e" not in out.stdout + out.stderr
+    assert "pendulum\\u202e1lmth.exe" in run_cli("check", path).stdout

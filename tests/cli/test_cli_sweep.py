@@ -170,3 +170,33 @@ def test_an_interrupted_sweep_names_resume(tmp_path):
     assert proc.returncode == 130
     assert "--resume" in err and str(journal) in err and "nothing was written" not in err
     assert journal.exists() and not out.exists()
+
+
+@pytest.mark.parametrize("vary", [["mu_s=0:1:10000000"], ["mu_s=0:1:10000000000"],
+                                  ["mu_s=0:1:5000", "alpha=0.1:0.5:5000"]])
+def test_a_grid_beyond_the_limit_is_refused_at_once_without_a_journal(tmp_path, vary):
+    """10^7 points ended in a MemoryError traceback after 42 s (10^9: at once), with a journal
+    left behind; the grid's size is known from its axes before any value is made."""
+    from nonideal.analysis.studies.sweep import MAX_POINTS
+
+    out = tmp_path / "s.json"
+    args = [a for v in vary for a in ("--vary", v)]
+    start = time.perf_counter()
+    r = run_cli("sweep", BLOCK, *args, "--what", "evaluate", "--json", out)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert f"{MAX_POINTS:,}" in r.stderr and "the limit" in r.stderr
+    assert time.perf_counter() - start < 60
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_resume_with_a_journal_row_without_parameters_names_the_row(tmp_path):
+    from nonideal.cli.sweep import _read_journal
+    from nonideal.errors import ModelError
+
+    header = {"model": "m.toml", "what": "simulate"}
+    journal = tmp_path / "s.json.journal"
+    journal.write_text(json.dumps({"sweep": header}) + "\n"
+                       + json.dumps({"parameters": {"mu": 0.1}, "exit_code": 0}) + "\n"
+                       + json.dumps({"exit_code": 0}) + "\n")
+    with pytest.raises(ModelError, match=r"s.json.journal, line 3: a row without its 'parameters'"):
+        _read_journal(journal, header)

@@ -3,6 +3,7 @@ floating point (overflow and domain checked, never exact arithmetic without boun
 products of huge numbers are refused while parsing, the bytes read from a model file are
 capped, and huge numbers are printed shortened."""
 
+import os
 import time
 
 import pytest
@@ -10,7 +11,9 @@ import sympy as sp
 
 from nonideal.errors import ExpressionError, ModelError, short_repr
 from nonideal.modeling.expressions import MAX_NODES, float_value, parse_expression
-from nonideal.modeling.limits import MAX_FILE_BYTES, MAX_PARAMETERS
+from nonideal.modeling.limits import MAX_FILE_BYTES, MAX_NESTING, MAX_PARAMETERS, check_nesting
+from nonideal.modeling.model import Model
+from nonideal.modeling.values import resolve_parameters
 from nonideal.modeling.modelfile import load_model
 from nonideal.gallery import model_path
 
@@ -94,3 +97,50 @@ def test_short_repr():
 
 def test_parse_keeps_small_products_exact():
     assert parse_expression("1e300*1e-300*3", {}, "v") == 3
+
+
+@pytest.mark.parametrize("text", [
+    "x = " + "{a = " * 5000 + "1" + "}" * 5000,           # inline tables
+    "x = " + "[" * 100_000 + "]" * 100_000,               # arrays
+    "a" + ".a" * 5000 + " = 1",                            # dotted keys
+    "[" + ".".join(["a"] * 5000) + "]\nx = 1",             # a table header
+])
+def test_deeply_nested_toml_is_refused_before_parsing(tmp_path, text):
+    """They overflowed the TOML parser's recursion (a RecursionError traceback)."""
+    path = tmp_path / "nested.toml"
+    path.write_text(text + "\n")
+    with pytest.raises(ModelError, match=f"nested {MAX_NESTING + 1} levels deep at line 1"):
+        load_model(path)
+
+
+def test_nesting_inside_strings_and_comments_and_long_inline_tables_are_fine():
+    check_nesting('x = "' + "[" * 500 + '"  # ' + "{" * 500 + "\n"
+                  "y = {" + ", ".join(f"k{i}.v = {i}.5" for i in range(200)) + "}\n", "m.toml")
+
+
+def test_a_named_pipe_is_refused_instead_of_waited_on(tmp_path):
+    fifo = tmp_path / "model.toml"
+    os.mkfifo(fifo)
+    start = time.perf_counter()
+    with pytest.raises(ModelError, match="not a regular file"):
+        load_model(fifo)
+    assert time.perf_counter() - start < 10.0
+
+
+def test_a_long_chain_of_derived_parameters_resolves_in_linear_time():
+    """19 990 parameters, each the previous one plus 1 (it ran past 90 s: every round of the
+    resolution scanned every pending parameter)."""
+    raw = {"p0": 1.0, **{f"p{i}": f"p{i - 1} + 1" for i in range(1, 19_990)}}
+    values, problems = resolve_parameters(raw)
+    assert not problems and values["p19989"] == 19_990.0
+    raw["p0"] = "p19989"  # a cycle through all of them is still reported
+    _, problems = resolve_parameters(raw)
+    assert len(problems) == 19_990 and "form a cycle" in problems[0]
+
+
+def test_a_deeply_nested_sympy_expression_is_refused_by_its_depth():
+    e = sp.Symbol("x")
+    for _ in range(3000):
+        e = sp.sin(e, evaluate=False)
+    with pytest.raises(ModelError, match="nested more than 500 levels deep"):
+        Model(name="deep", coordinates=["x"], kinetic="x'^2/2", potential=e)

@@ -13,7 +13,7 @@ from nonideal.modeling.modelfile import load_model, model_from_dict
 from nonideal.simulation import simulate
 from nonideal.simulation import budget
 from nonideal.simulation.budget import MAX_TIMES, SampleBuffer
-from tests.helpers import DATA_DIR
+from tests.helpers import DATA_DIR, run_cli
 
 
 @pytest.fixture(scope="module")
@@ -100,3 +100,22 @@ def test_api_arguments_are_checked(pendulum, call, message):
     with pytest.raises(ModelError) as info:
         call(pendulum)
     assert message in str(info.value)
+
+
+@pytest.mark.parametrize("velocity", [0.0, 1.0])
+def test_a_mass_matrix_that_becomes_singular_at_rest_is_reported_where_it_happens(tmp_path, velocity):
+    """(1 - t) x'^2/2 without a potential: from rest x'' = x'/(1 - t) stays 0, so the motion
+    does not stall at t = 1 and ran on to t = 2 with exit 0; the mass matrix is watched at
+    every step and the run ends with exit 2 at t = 1 (to the 1e-6 of its size at which it
+    counts as singular)."""
+    text = (DATA_DIR / "vanishing_mass.toml").read_text()
+    text = text.replace('potential = "k*x^2/2"', 'potential = "0"').replace('"x\'" = 0.0', f'"x\'" = {velocity}')
+    path = tmp_path / "vanishing_mass_at_rest.toml"
+    path.write_text(text)
+    with pytest.raises(SingularSystem) as info:
+        simulate(load_model(path))
+    assert info.value.exit_code == 2
+    message = str(info.value)
+    assert "the mass matrix becomes singular along the motion at t = 0.99999" in message
+    proc = run_cli("simulate", path)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr

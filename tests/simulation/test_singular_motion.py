@@ -126,3 +126,16 @@ def test_cli_stop_exits_3_and_smooth_says_the_branch(tmp_path):
     proc = run_cli("simulate", DATA_DIR / "dependent_in_motion.toml")
     assert proc.returncode == 0, proc.stderr
     assert "singular circle, program" in proc.stdout and "smooth branch" in proc.stdout
+
+
+@pytest.mark.parametrize("method, rtol", [("RK45", 1e-8), ("RK45", 1e-6), ("DOP853", 1e-6)])
+def test_stop_stops_at_any_tolerance(method, rtol):
+    """At a looser tolerance the integrated motion misses the dependent configuration (RK45 at
+    rtol 1e-8: the regularity bottoms out at 3e-6 and the motion turns back on x = |sin t|,
+    which ran to the end); the level at which the rows count as singular follows the
+    tolerance, so the run stops at t = pi."""
+    model = with_setting("dependent_in_motion.toml", "stop")
+    with pytest.raises(SingularMotion) as info:
+        simulate(model, method=method, rtol=rtol)
+    assert info.value.t == pytest.approx(math.pi, abs=1e-2)
+    assert info.value.details["constraints"] == "circle, program"

@@ -37,7 +37,7 @@ from ...errors import ModelError, did_you_mean
 from .sweep_points import WHATS, PointRunner, SweepTask, run_chunk, runner_for
 
 __all__ = ["Axis", "parse_vary", "grid", "point_key", "SweepTask", "PointRunner", "SweepResult",
-           "sweep", "run_chunk", "flatten", "WHATS"]
+           "sweep", "run_chunk", "flatten", "WHATS", "MAX_POINTS", "check_grid"]
 
 
 # ------------------------------------------------------------------------------ the grid
@@ -56,6 +56,21 @@ class Axis:
         if n == 1:
             return cls(name, (float(start),))
         return cls(name, tuple(float(v) for v in np.linspace(start, stop, n)))
+
+
+MAX_POINTS = 1_000_000
+"""Points of a sweep's grid at most (a million runs of even a millisecond each are a quarter of
+an hour of processor time; the journal and the output grow with every point)."""
+
+
+def check_grid(axes: Sequence[Axis]) -> None:
+    """Refuse a grid of more than :data:`MAX_POINTS` points, from the sizes of its axes (the
+    grid itself is never built for that)."""
+    total = math.prod(len(a.values) for a in axes)
+    if total > MAX_POINTS:
+        sizes = " x ".join(f"{len(a.values)} ({a.name})" for a in axes)
+        raise ModelError(f"--vary: the grid has {sizes} = {total:.3g} points, more than "
+                         f"{MAX_POINTS:,} (the limit); sweep fewer values, or split the sweep")
 
 
 def parse_vary(text: str) -> Axis:
@@ -91,9 +106,14 @@ def parse_vary(text: str) -> Axis:
                              f"'{parts[2]}'); {example}") from None
         if n < 1:
             raise ModelError(f"--vary {text}: N must be at least 1 (got {n})")
+        if n > MAX_POINTS:  # before the values are made: 1e10 of them do not fit in memory
+            raise ModelError(f"--vary {text}: N = {n:.3g} values, more than {MAX_POINTS:,} "
+                             "points in all (the limit); sweep fewer values")
         if not (math.isfinite(start) and math.isfinite(stop)):
             raise ModelError(f"--vary {text}: START and STOP must be finite numbers")
         return Axis.linspace(name, start, stop, n)
+    if rest.count(",") >= MAX_POINTS:
+        raise ModelError(f"--vary {name}: more than {MAX_POINTS:,} values (the limit); sweep fewer")
     values = []
     for p in rest.split(","):
         try:
@@ -113,6 +133,7 @@ def grid(axes: Sequence[Axis]) -> list[dict[str, float]]:
     if seen:
         raise ModelError([f"--vary {n}: given {names.count(n)} times; vary each parameter once"
                           for n in seen])
+    check_grid(axes)
     return [dict(zip(names, combo)) for combo in itertools.product(*(a.values for a in axes))]
 
 
