@@ -61,6 +61,13 @@ class Motion:
         if hit is not None:
             self._sol, self._lu, self._piv = hit[3:]
 
+    @classmethod
+    def solved(cls, solver, mode: Mode, t: float, y: np.ndarray, sol: np.ndarray) -> "Motion":
+        """The motion at a state whose ``[q''; -lambda]`` *sol* is known (a native step's)."""
+        motion = cls(solver, mode, t, y)
+        motion._sol = sol
+        return motion
+
     @property
     def q(self) -> np.ndarray:
         return self.y[:self.n]

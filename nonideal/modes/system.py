@@ -225,6 +225,11 @@ class ModeSystem:
             self.dropped = frozenset(j for j in range(self.m) if j not in keep and self._ideal[j])
         return self._dependent
 
+    @property
+    def dependence(self) -> bool | None:
+        """Whether the rows are dependent (:meth:`dependent`); None until a state decided it."""
+        return self._dependent
+
     def factor(self, K: np.ndarray, r: np.ndarray):
         """``[q''; -lambda]`` and the LU factors (``None`` without rows: Cholesky of M).
 

@@ -34,8 +34,10 @@ from ..modeling.arguments import real_number, require_form, require_mapping, req
 __all__ = ["MAX_SAMPLES", "MAX_TIMES", "MAX_STEPS", "PROBE_STEPS", "MAX_SECONDS", "PROBE_SECONDS", "SampleBuffer", "StepBudget",
            "check_times", "check_arguments", "sample_dense"]
 
-MAX_SAMPLES = 100_000
-"""Step samples kept by default (events and requested times come on top)."""
+MAX_SAMPLES = 5_000
+"""Step samples kept by default (events and requested times come on top): a long run's
+output stays a few megabytes of JSON (a rigid body with four contacts: ~0.9 kB per sample)
+however many steps it takes; ``max_samples=None`` keeps every step."""
 MAX_TIMES = 200_000
 """Requested sample times (``--times``, ``times=``) at most."""
 MAX_STEPS = 5_000_000
@@ -110,14 +112,23 @@ class StepBudget:
         self.steps += 1
         if self.steps % 64 or t <= self.t0:
             return
+        self._check(t, self.steps % PROBE_STEPS == 0)
+
+    def _check(self, t: float, probe: bool) -> None:
         progress = (t - self.t0) / (self.t_end - self.t0)
         elapsed = time.process_time() - self.start
-        if self.steps % PROBE_STEPS == 0 and self.steps / progress > self.limit:
+        if probe and self.steps / progress > self.limit:
             self._refuse(t, f"{self.steps} steps", f"about {self.steps / progress:.2g} steps",
                          f"{self.limit:.0e} steps")
         if elapsed >= PROBE_SECONDS and elapsed / progress > self.seconds:
             self._refuse(t, f"{elapsed:.2g} s", f"about {elapsed / progress:.2g} s",
                          f"{self.seconds:g} s")
+
+    def advance(self, t: float, steps: int) -> None:
+        """*steps* steps taken at once (natively) up to *t*, then checked."""
+        self.steps += steps
+        if steps and t > self.t0:
+            self._check(t, self.steps >= PROBE_STEPS)
 
     def _refuse(self, t: float, spent: str, needed: str, limit: str):
         other = ("an explicit integrator (--method DOP853) for a motion that oscillates fast rather "
@@ -151,6 +162,9 @@ def check_arguments(model, t_end, times, form, options: dict) -> None:
             if isinstance(value, bool) or not isinstance(value, numbers.Real):
                 raise ModelError(f"{f}: {name}[{key!r}] must be a number, got {short_repr(value)} "
                                  f"(e.g. {name}={{{key!r}: 1.0}})")
+    native = options.get("native")
+    if native is not None and not isinstance(native, bool):
+        raise ModelError(f"{f}: native must be True, False or None (after a phase's first steps), got {native!r}")
     limit = options.get("max_samples", MAX_SAMPLES)
     if limit is not None and (isinstance(limit, bool) or not isinstance(limit, numbers.Integral)
                               or limit < 2):

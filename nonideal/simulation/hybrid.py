@@ -41,6 +41,8 @@ from .singular import BRANCHES, JUMP_FROM, MassGuard, Regularity, explain_stall,
 from .extended import reduce
 from ..equations.high_order import extension_of
 from .rhs import phase_rhs
+from .fast import FastPhases
+from .projection import project_mode
 from .trajectory import Sample, Trajectory
 from .zeno import Accumulation, ImpactSeries
 
@@ -85,6 +87,10 @@ class Simulation:
         Where the constraints become singular along the motion: go on on the smooth branch
         (an event ``singular``) or stop (:class:`~nonideal.errors.SingularMotion`); default
         from the model's ``[simulation] singular`` (:mod:`nonideal.simulation.singular`).
+    native : bool or None, optional
+        Native code (numba, the extra ``fast``) for the phases it computes
+        (:mod:`nonideal.simulation.fast`): None after a phase's first
+        :data:`~nonideal.simulation.fast.NATIVE_STEPS` steps, True at once, False never.
     """
 
     def __init__(self, model: Model, form: str = "lagrange1",
@@ -92,7 +98,8 @@ class Simulation:
                  atol: float | None = None, method: str | None = None,
                  max_step: float | None = None, independent=None, max_events: int = 10_000,
                  detect_jam: bool = True, specialize: bool = True,
-                 max_samples: int | None = MAX_SAMPLES, singular: str | None = None):
+                 max_samples: int | None = MAX_SAMPLES, singular: str | None = None,
+                 native: bool | None = None):
         self.model = model
         self.kernel = kernel_of(model)
         self.params = parameter_vector(model, parameters)
@@ -117,6 +124,7 @@ class Simulation:
         self.n = k.n
         #: the servo rows: each control's power is integrated with the motion, after the works
         self.control_rows = [i for i, r in enumerate(k.rows) if r.reaction_kind == "servo"]
+        self.fast = FastPhases(self, native)
 
     # ------------------------------------------------------------------ right-hand side
     def rhs(self, mode: Mode):  # the right-hand side f(t, y) of a phase in *mode* (rhs.phase_rhs)
@@ -227,45 +235,8 @@ class Simulation:
         return after, new, record
 
     def _project(self, mode: Mode, t, q, qd):
-        """Project onto the constraint rows of *mode* (constraints, closed gaps, stick rows)."""
-        rows = self.solver.rows(mode)
-        if rows:
-            q, qd = project_state(self.kernel, rows, t, q, qd, self.params)
-        if not self.contacts:
-            return q, qd
-        ck = self.solver.ck
-        for _ in range(4):
-            cout = ck(self.solver.input(t, q, qd))
-            Gp, rp, Gv, rv = [], [], [], []
-            for c, (name, cs) in enumerate(mode.contacts):
-                if cs.state == SEPARATED:
-                    continue
-                o = ck.offsets[c]
-                Gp.append(cout["Gn"][c].copy())
-                rp.append(float(cout["gap"][c]))
-                Gv.append(cout["Gn"][c].copy())
-                rv.append(float(cout["gap_rate"][c]))
-                if cs.state == STICK:
-                    for k in range(ck.dims[c]):
-                        Gv.append(cout["W"][o + k].copy())
-                        rv.append(float(cout["U"][o + k]))
-            if not Gp:
-                break
-            scale = 1.0 + max_abs(q)
-            if max(map(abs, rp + rv)) < 1e-14 * scale:
-                break
-            out = self.kernel.dynamics(self.solver.input(t, q, qd)) if rows else None
-            for i in rows:  # keep the constraints while correcting the contacts
-                r = self.kernel.rows[i]
-                if r.position is not None:
-                    Gp.append(out["G"][i].copy())
-                    rp.append(0.0)
-                if r.velocity is not None:
-                    Gv.append(out["G"][i].copy())
-                    rv.append(0.0)
-            q = q + np.linalg.lstsq(np.array(Gp), -np.array(rp), rcond=None)[0]
-            qd = qd + np.linalg.lstsq(np.array(Gv), -np.array(rv), rcond=None)[0]
-        return q, qd
+        """Project onto the constraint rows of *mode* (:func:`~nonideal.simulation.projection.project_mode`)."""
+        return project_mode(self, mode, t, q, qd)
 
     def work_tolerances(self):
         """Absolute tolerances of the state ``[q, q', W]``: *atol* for the motion and
@@ -362,6 +333,7 @@ class Simulation:
         y = np.concatenate((q0, qd0, np.zeros(N_WORK + len(self.control_rows) if self.track else 0)))
         atol = self.work_tolerances() if self.track else self.atol
         samples = SampleBuffer(self.max_samples)  # bounded: thinned past max_samples steps
+        self.fast.start()
         budget = StepBudget(t0, t_end, source, method=self.method)
         events_log: list[dict] = []
         next_time = 0
@@ -405,8 +377,15 @@ class Simulation:
             regularity.start(motion, watched)
             tols = [self._tolerance(ev, motion) for ev in events]
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
-            restart = False
+            restart, first = False, True
             while not restart:
+                go = self.fast.ready(mode, first, events, drift, watched)  # native code from here?
+                first = False
+                if go is not None:  # "rhs": restart on the native right-hand side; "phase": to the end
+                    h, restart = ode.h_abs, True
+                    if go == "phase":
+                        t, y, next_time, _ = self.fast.run(mode, ode, t_end, times, next_time, emit, budget)
+                    continue
                 message = ode.step()
                 if ode.status == "failed":
                     explain_stall(self, ode, mode)
@@ -571,8 +550,10 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
     **options
         ``parameters``, ``rtol``, ``atol``, ``method``, ``max_step``, ``independent``,
         ``initial``, ``detect_jam``, ``specialize``, ``max_samples`` (step samples kept, default
-        100000; beyond, the step output is thinned -- ``diagnostics["output_stride"]`` --
-        events and requested times are always kept; ``None`` keeps every step).
+        5000; beyond, the step output is thinned -- ``diagnostics["output_stride"]`` --
+        events and requested times are always kept; ``None`` keeps every step), ``native``
+        (numba for the phases it computes, :mod:`nonideal.simulation.fast`: None -- the
+        default -- after a phase's first 1000 steps, True at once, False never).
 
     Returns
     -------
@@ -586,7 +567,7 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
     [0.0, 1.0]
     """
     allowed = ("parameters", "rtol", "atol", "method", "max_step", "independent", "max_events",
-               "detect_jam", "specialize", "initial", "stop_on", "max_samples", "singular")
+               "detect_jam", "specialize", "initial", "stop_on", "max_samples", "singular", "native")
     unknown = [k for k in options if k not in allowed]
     if unknown:
         from ..errors import did_you_mean

@@ -26,10 +26,11 @@ def phase_rhs(sim, mode: Mode):
 
     Lagrange I evaluates the mode's :class:`~nonideal.modes.system.ModeSystem` (assembled
     by index; the powers of the reactions from the same solve); the other forms, and a
-    singular system, take the general path of :meth:`ModeSolver.accelerations`.
+    singular system, take the general path of :meth:`ModeSolver.accelerations`.  A mode
+    the native kernel computes takes it once it is loaded (:mod:`nonideal.simulation.fast`).
     """
     if sim.solver.route.saddle_point:
-        return saddle_point_rhs(sim, mode)
+        return sim.fast.rhs(mode, general_rhs(sim, mode)) or saddle_point_rhs(sim, mode)
     return general_rhs(sim, mode)
 
 def saddle_point_rhs(sim, mode: Mode):

@@ -1,0 +1,206 @@
+"""Phases in native code: the right-hand side of a mode, and whole phases without events,
+through numba (:mod:`nonideal.numeric.native`, the optional extra ``fast``).
+
+A phase is integrated natively when nothing in it needs Python between two steps: Lagrange I
+(the saddle-point route) with DOP853, no contact rows, no watched event, no constraint row
+whose drift is checked, no chart and no singular row to watch -- a pendulum, a chain of free
+bodies, a spinning top.  The phase's first steps run on SciPy's DOP853 as every phase does;
+after :data:`NATIVE_STEPS` accepted steps (``native=None``, the default: short runs never
+pay the compilation), or at once (``native=True``), the loop hands the state, its derivative
+and the next step size to the native DOP853 (the same method, tableau and step-size control,
+:mod:`nonideal.numeric.integrator`), which integrates to the end of the run.  The right-hand
+sides of the other phases of such a mode also come from the native kernel once it is loaded.
+``native=False``, or numba absent, keeps the NumPy/SciPy path: the same results to rounding.
+
+Which path a run takes depends only on its model, options and progress, never on what ran
+before or on the disk cache, so a run is reproducible bit for bit.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import threading
+from contextlib import contextmanager
+
+import numpy as np
+
+from ..modes.motion import Motion
+from ..modes.types import Mode
+
+__all__ = ["NATIVE_STEPS", "NATIVE_CHUNK", "FastPhases", "deferred_signals"]
+
+NATIVE_STEPS = 1000
+"""Accepted steps of one phase after which it continues natively (with ``native=None``): the
+phase has then cost ~0.1-0.5 s in Python, about what loading the native kernel costs the first
+time in a process (compiling it the first time ever: 2-4 s for a 10-link pendulum, then read
+from the disk cache in ~0.1 s)."""
+
+NATIVE_CHUNK = 20_000
+"""Steps of one native call; between two, the run's step and time budget is checked and
+Ctrl-C takes effect (:func:`deferred_signals`)."""
+
+
+class FastPhases:
+    """The native path of one :class:`~nonideal.simulation.hybrid.Simulation`.
+
+    Parameters
+    ----------
+    sim : Simulation
+    option : bool or None
+        ``True``: native from the start of every eligible phase; ``None``: after
+        :data:`NATIVE_STEPS` steps of a phase; ``False``: never.
+    """
+
+    def __init__(self, sim, option: bool | None):
+        self.sim = sim
+        self.option = option
+        self._native = None
+        self._buffers: dict = {}
+        #: mode structures whose right-hand side is native in this run (all with ``True``)
+        self.hot: set = set()
+        self._steps: dict = {}
+        self._failed: set = set()  # structures whose native phase stopped short in this run
+        if option:
+            self.native  # load now: a failure to compile shows at once, not mid-run
+
+    @property
+    def native(self):
+        """The model's :class:`~nonideal.numeric.native.Native`, loaded on first use (False:
+        numba absent or the kernel not writable natively)."""
+        if self._native is None:
+            if self.option is False:
+                self._native = False
+            else:
+                from ..numeric.native import native_of
+
+                with deferred_signals():  # numba compiling: not interruptible cleanly
+                    self._native = native_of(self.sim.kernel) or False
+        return self._native
+
+    def _system(self, mode: Mode):
+        """The mode's system when the native right-hand side computes it, else None."""
+        sim = self.sim
+        if self.option is False or not sim.solver.route.saddle_point or getattr(sim, "control_rows", None):
+            return None  # (the controls' powers of servo rows are integrated on the NumPy path)
+        system = sim.solver.system(mode)
+        if system.contact_rows or system.blocks is not None or (system.m and system.dependence is not False):
+            return None
+        return system
+
+    def buffers(self, mode: Mode):
+        """``(w, ix)`` of the mode structure (:meth:`Native.buffers
+        <nonideal.numeric.native.Native.buffers>`), one pair per structure."""
+        key = mode.structure
+        if key not in self._buffers:
+            self._buffers[key] = self.native.buffers(self.sim.solver.system(mode), self.sim.params,
+                                                     self.sim.track)
+        return self._buffers[key]
+
+    def rhs(self, mode: Mode, general):
+        """The native right-hand side of *mode* once the native kernel is loaded, else None;
+        *general* answers where the system is singular (a named error or the minimum-norm
+        solution)."""
+        if not (self.option or mode.structure in self.hot):
+            return None
+        if self._system(mode) is None or not self.native:
+            return None
+        step = self.native.rhs
+        w, ix = self.buffers(mode)
+        size = 2 * self.sim.n + (5 if self.sim.track else 0)
+
+        def fun(t, y):
+            dy = np.empty(size)
+            if step(t, y, w, ix, dy):
+                return dy
+            return general(t, y)
+        return fun
+
+    def start(self) -> None:
+        """A run starts: no mode structure is hot, no step counted."""
+        self.hot.clear()
+        self._steps.clear()
+        self._failed.clear()
+
+    def ready(self, mode: Mode, first: bool, events, drift, watched) -> str | None:
+        """Called before each step of a phase in *mode* (*first*: its first step): ``"phase"``
+        continue natively to the end, ``"rhs"`` restart on the native right-hand side (events
+        or drift still checked in Python after each step), None go on as it is.  With
+        ``native=None`` the step counts of each mode structure in the run decide."""
+        if self.option is False:
+            return None
+        key = mode.structure
+        if self.option is None:
+            count = self._steps[key] = self._steps.get(key, 0) + 1
+            if count != NATIVE_STEPS or key in self.hot:
+                return None
+        elif not first:
+            return None
+        if key in self._failed or self._system(mode) is None or not self.native:
+            return None
+        sim = self.sim
+        if events or drift[0] or drift[1] or watched or sim.method != "DOP853" or sim.solver.charts is not None:
+            if self.option:
+                return None
+            self.hot.add(key)
+            return "rhs"
+        return "phase"
+
+    def run(self, mode: Mode, ode, t_end: float, times, next_time: int, emit, budget):
+        """Integrate from the solver's accepted state to *t_end*; the samples are emitted
+        (every step, or the requested *times* from the dense output).  Returns ``(t, y,
+        next_time, finished)``; not finished: the native step failed (a step too small or a
+        singular system) at ``(t, y)``, where the SciPy path takes over and explains."""
+        w, ix = self.buffers(mode)
+        nat, solver, n = self.native, self.sim.solver, self.sim.n
+        plain = solver.system(mode).m == 0
+        t, y, f, h_abs = float(ode.t), np.array(ode.y, dtype=float), np.array(ode.f, dtype=float), float(ode.h_abs)
+        atol = np.broadcast_to(np.asarray(ode.atol, dtype=float), y.shape).copy()
+        grid = np.asarray(times if times is not None else np.zeros(0), dtype=float)
+        nt = next_time if times is not None else 0
+        # the hybrid loop's watch of collapsing steps: the first such step returns to it
+        tiny = 1e-9 * min(t_end - budget.t0, 1.0)
+        while True:
+            with deferred_signals():
+                status, t, y, f, h_abs, T, Y, DY, count, nt, steps = nat.integrator.phase(
+                    nat.kernel, t, y, f, h_abs, float(t_end), float(ode.rtol), atol, float(ode.max_step),
+                    w, ix, grid, nt, NATIVE_CHUNK, tiny + 4e-16 * abs(t_end))
+            for k in range(count):  # without rows, the derivative holds the whole motion
+                motion = Motion.solved(solver, mode, T[k], Y[k], DY[k, n:2 * n]) if plain else None
+                emit(T[k], Y[k], mode, motion, times is None)
+            budget.advance(t, steps)
+            if status != 1:
+                break
+        if status != 0:
+            self._failed.add(mode.structure)
+        return t, y, (nt if times is not None else next_time), status == 0
+
+
+@contextmanager
+def deferred_signals():
+    """Ctrl-C (SIGINT) and SIGTERM received while native code runs or compiles take effect when
+    it returns (within one chunk of :data:`NATIVE_CHUNK` steps, or once the compilation is
+    done): a Python exception raised by a signal inside numba's call would come back as a
+    ``SystemError`` ("returned a result with an exception set") or end the process by the
+    signal.  The handlers in place before (the command line's: exit 130 / 143) then run."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list = []
+    old = {}
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        handler = signal.getsignal(sig)
+        if handler is not None:
+            old[sig] = handler
+            signal.signal(sig, lambda signum, frame: received.append((signum, frame)))
+    try:
+        yield
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+    for signum, frame in received[:1]:
+        handler = old[signum]
+        if callable(handler):
+            handler(signum, frame)  # Python's default raises KeyboardInterrupt
+        elif handler == signal.SIG_DFL:
+            os.kill(os.getpid(), signum)
