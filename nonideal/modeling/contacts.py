@@ -202,11 +202,9 @@ class Contact:
         library derives the gap and the two slip components
         (:func:`~nonideal.modeling.shapes.contact_geometry`).
     surface : Plane or mapping, optional
-        The plane touched (default: z = 0 of N, normal +z).
-
-    After normalization a contact from geometry carries ``geometry``
-    (:class:`~nonideal.modeling.shapes.ContactGeometry`: normal, support point, angular
-    velocities) besides the derived ``gap`` and ``slip``.
+        The plane touched (default: z = 0 of N, normal +z).  After normalization a contact
+        from geometry carries ``geometry`` (:class:`~nonideal.modeling.shapes.ContactGeometry`:
+        normal, support point, angular velocities) besides the derived ``gap`` and ``slip``.
     spin : expression, optional
         The relative spin angular velocity of the bodies about the contact normal (linear in
         the velocities); needed by ``spin_friction`` (derived for a contact from geometry).

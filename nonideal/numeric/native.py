@@ -7,6 +7,7 @@ directory (:func:`cache_dir`).  The module holds, for the model:
 
 * ``kernel(x, z)`` (a numba ``cfunc``): the nonzero entries of the kernel's flat output from the input
   ``[t, q, q', parameters]`` (SymEngine's common subexpressions);
+
 and :mod:`nonideal.numeric.integrator` (generic, compiled once for every model) takes it as a
 C callback: the right-hand side of a mode without contact rows (the saddle-point solve
 included) and SciPy's DOP853 looped over a whole phase without events.
