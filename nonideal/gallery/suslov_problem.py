@@ -10,9 +10,10 @@ Model.  Body axes 1, 2, 3 with ``e`` = axis 3; the inertia tensor in these axes 
     J = [[J1, 0, a], [0, J2, 0], [a, 0, J3]]
 
 (axes 1, 2 turned about ``e`` so that ``J12 = 0``; here also ``J23 = 0``).  The speeds are the
-body components of the angular velocity in the Euler angles psi, theta, phi (body ZXZ):
-``w1 = psi' sin(theta) sin(phi) + theta' cos(phi)``, ``w2 = psi' sin(theta) cos(phi) - theta'
-sin(phi)``, ``w3 = psi' cos(theta) + phi'``; the constraint is ``w3 = 0`` and no torque acts.
+body components of the angular velocity, read from the body's frame B (Euler angles psi,
+theta, phi, body ZXZ): ``w1 = dot(omega(B), B.x)`` (= psi' sin(theta) sin(phi) + theta'
+cos(phi)), ``w2 = dot(omega(B), B.y)``, ``w3 = dot(omega(B), B.z)``; the constraint is
+``w3 = 0`` and no torque acts.
 
 Equations (Kane's form in the speeds w1, w2: Euler's equations with the reaction torque
 ``lambda e`` about axis 3, whose row is eliminated)
@@ -32,6 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..modeling.frames import Frame
 from ..modeling.model import Constraint, Model
 
 NAME = "suslov-problem"
@@ -39,11 +41,8 @@ ORDER = 11
 TITLE = "Suslov's problem: rigid body with omega . e = 0, closed form w2 = s tanh(k t + c0) (Suslov 1902)"
 FILE = "suslov_problem.toml"
 
-SPEEDS = {
-    "w1": "psi'*sin(theta)*sin(phi) + theta'*cos(phi)",
-    "w2": "psi'*sin(theta)*cos(phi) - theta'*sin(phi)",
-    "w3": "psi'*cos(theta) + phi'",
-}
+#: the speeds: the body components of the body's angular velocity, read from its frame
+SPEEDS = {"w1": "dot(omega(B), B.x)", "w2": "dot(omega(B), B.y)", "w3": "dot(omega(B), B.z)"}
 
 
 def build(J1: float = 2.0, J2: float = 3.0, J3: float = 4.0, a: float = 0.5, w10: float = 1.0,
@@ -53,6 +52,7 @@ def build(J1: float = 2.0, J2: float = 3.0, J3: float = 4.0, a: float = 0.5, w10
         name="Suslov's problem: rigid body with omega . e3 = 0",
         coordinates=["psi", "theta", "phi"],
         parameters={"J1": J1, "J2": J2, "J3": J3, "a": a},
+        frames=[Frame("B", rotation="body ZXZ", angles=["psi", "theta", "phi"])],
         speeds=SPEEDS,
         kinetic="(J1*w1^2 + J2*w2^2 + J3*w3^2)/2 + a*w1*w3",
         constraints=[Constraint.nonholonomic("suslov", "w3")],

@@ -108,8 +108,10 @@ class Kinematics:
             parent = self.frames[name][0]
             w = self._relative(name)[1]
             if parent == FIXED:
-                return Vector(list(w))
-            return self.omega(parent) + Vector(list(matmul(self.rotation(parent), w)))
+                v = Vector(list(w))
+            else:
+                v = self.omega(parent) + Vector(list(matmul(self.rotation(parent), w)))
+            return Vector(v.components, (name, list(self.omega_own(name))))
         return self._memo(("w", name), build)
 
     def omega_own(self, name: str) -> sp.Matrix:
@@ -129,7 +131,8 @@ class Kinematics:
 
     def unit(self, name: str, axis: int) -> Vector:
         """The unit vector ``name.x`` (axis 0), ``.y`` (1), ``.z`` (2) in N components."""
-        return self._memo(("unit", name, axis), lambda: Vector(list(self.rotation(name)[:, axis])))
+        local = (name, [sp.Integer(int(k == axis)) for k in range(3)])
+        return self._memo(("unit", name, axis), lambda: Vector(list(self.rotation(name)[:, axis]), local))
 
     # ---------------------------------------------------------------- points
     def _offset(self, name: str, order: int = 0):

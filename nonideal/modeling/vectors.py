@@ -48,27 +48,45 @@ class Vector:
 
     Supports ``u + v``, ``u - v``, ``-u``, ``c * u``, ``u * c`` and ``u / c`` with a scalar
     ``c``; products of vectors are :func:`dot` and :func:`cross`.
+
+    A vector that is naturally expressed in a frame B (``omega(B)``, ``B.x``) also keeps
+    ``local = (B, components in B's axes)``; sums, multiples and products of vectors of one
+    frame are formed in that frame, as ``sympy.physics.vector`` does, so that
+    ``dot(omega(B), B.x)`` is the body component itself and not its N-axes expansion (which
+    carries the angles of B's orientation in terms that cancel only by sin^2 + cos^2 = 1).
     """
 
-    __slots__ = ("components",)
+    __slots__ = ("components", "local")
 
-    def __init__(self, components: Sequence):
+    def __init__(self, components: Sequence, local: tuple | None = None):
         comps = tuple(as_basic(c) for c in components)
         if len(comps) != 3:
             raise ValueError(f"a vector has 3 components, got {len(comps)}")
         self.components = comps
+        self.local = None if local is None else (local[0], tuple(as_basic(c) for c in local[1]))
+
+    def _same_frame(self, other: "Vector"):
+        if self.local is not None and other.local is not None and self.local[0] == other.local[0]:
+            return self.local[0]
+        return None
 
     def __add__(self, other: "Vector") -> "Vector":
-        return Vector([a + b for a, b in zip(self.components, other.components)])
+        f = self._same_frame(other)
+        return Vector([a + b for a, b in zip(self.components, other.components)],
+                      None if f is None else (f, [a + b for a, b in zip(self.local[1], other.local[1])]))
 
     def __sub__(self, other: "Vector") -> "Vector":
-        return Vector([a - b for a, b in zip(self.components, other.components)])
+        f = self._same_frame(other)
+        return Vector([a - b for a, b in zip(self.components, other.components)],
+                      None if f is None else (f, [a - b for a, b in zip(self.local[1], other.local[1])]))
 
     def __neg__(self) -> "Vector":
-        return Vector([-a for a in self.components])
+        return Vector([-a for a in self.components],
+                      None if self.local is None else (self.local[0], [-a for a in self.local[1]]))
 
     def scaled(self, c) -> "Vector":
-        return Vector([c * a for a in self.components])
+        return Vector([c * a for a in self.components],
+                      None if self.local is None else (self.local[0], [c * a for a in self.local[1]]))
 
     def __iter__(self):
         return iter(self.components)
@@ -111,18 +129,30 @@ def zero() -> Vector:
 
 def add(vectors: Sequence[Vector]) -> Vector:
     """The sum of several vectors in one step (no quadratic re-flattening)."""
-    return Vector([sp.Add(*[v.components[i] for v in vectors]) for i in range(3)])
+    frames = {v.local[0] if v.local is not None else None for v in vectors}
+    local = None
+    if len(frames) == 1 and None not in frames:
+        local = (frames.pop(), [sp.Add(*[v.local[1][i] for v in vectors]) for i in range(3)])
+    return Vector([sp.Add(*[v.components[i] for v in vectors]) for i in range(3)], local)
 
 
 def dot(a: Vector, b: Vector) -> sp.Expr:
-    """The scalar product."""
+    """The scalar product (formed in the frame both vectors are expressed in, when they share one)."""
+    if a._same_frame(b) is not None:
+        return sp.Add(*[x * y for x, y in zip(a.local[1], b.local[1])])
     return sp.Add(*[x * y for x, y in zip(a.components, b.components)])
 
 
+def _cross3(a, b):
+    (a1, a2, a3), (b1, b2, b3) = a, b
+    return (a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1)
+
+
 def cross(a: Vector, b: Vector) -> Vector:
-    """The vector product (right-handed N)."""
-    (a1, a2, a3), (b1, b2, b3) = a.components, b.components
-    return Vector((a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1))
+    """The vector product (right-handed axes; also in the frame both share, when they do)."""
+    f = a._same_frame(b)
+    return Vector(_cross3(a.components, b.components),
+                  None if f is None else (f, _cross3(a.local[1], b.local[1])))
 
 
 def norm(a: Vector) -> sp.Expr:
