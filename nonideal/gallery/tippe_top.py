@@ -35,13 +35,13 @@ for a fast spin exactly when 1 - alpha < C/A < 1 + alpha, alpha = a/R: here 0.8 
 **Which friction.**  The inversion needs sliding all the way: in ideal rolling the energy is
 conserved and nothing lifts the centre of mass.  With Coulomb's exact law (``build(exact=True)``,
 stick/slip switched by events) the initial slip -- the contact point lies off the spin axis,
-|U0| = W R sin(theta0) = 0.27 m/s -- dies at t* = 36.1 ms; the top then rolls, the friction
+U0 = W R sin(theta0) = 0.27 m/s -- dies at t* = 36.1 ms; the top then rolls, the friction
 staying inside the cone, and does not turn over (theta stays below 0.2 rad).  This is the
 point contact's answer: Leine & Glocker turn their top with the Contensou coupling of sliding
 and pivoting friction over a finite contact disk, Or 1994 and Bou-Rabee et al. with viscous
 sliding friction, Ueda et al. with a "modified Coulomb law" continuous at U = 0 -- all laws
 under which the slip never stops.  The model file therefore uses the smooth Coulomb law
-``friction = "regularized"``: F = -mu N U/sqrt(|U|^2 + eps^2) with eps = 0.05 m/s (full
+``friction = "regularized"``: F = -mu N U/sqrt(abs(U)^2 + eps^2) with eps = 0.05 m/s (full
 Coulomb friction above ~0.1 m/s); the top turns over, theta passing pi/2 at t = 0.97 s and
 reaching 3.0 rad at t = 3 s, the centre of mass rising by 1.985 a, half the energy gone as heat.
 
@@ -143,8 +143,8 @@ def spin_threshold(p: dict) -> float:
 def newton_euler(p: dict, t_end: float, times, eps: float | None = EPS, rtol: float = 1e-11):
     """An independent integration: G's motion and Euler's equations in N axes, the quaternion
     from the body angular velocity, the normal force N from gap'' = 0 (the gap z + a k_z - R),
-    sliding friction F = -mu N U/sqrt(|U|^2 + eps^2) (``eps=None``: -mu N U/|U|, sliding only;
-    the integration stops where |U| vanishes).  Returns (t, theta, slip, t_stop)."""
+    sliding friction F = -mu N U/sqrt(abs(U)^2 + eps^2) (``eps=None``: -mu N U/abs(U), sliding only;
+    the integration stops where abs(U) vanishes).  Returns (t, theta, slip, t_stop)."""
     from scipy.integrate import solve_ivp
 
     m, R, a, g, mu = p["m"], p["R"], p["a"], p["g"], p["mu"]
