@@ -43,7 +43,7 @@ def evaluate(kern, x, z):
     kern(x.ctypes, z.ctypes)
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def _solve(K, r, s, m):
     """K (s x s, column-major, entry (i, k) at i + k s) in place; r becomes the solution.
     Cholesky without rows (LU when M is not positive definite), LU with partial pivoting
