@@ -112,7 +112,7 @@ def natural_frequencies(model: Model, at: Any = None, about: str = "equilibrium"
         raise MechanicsError(f"natural frequencies: about '{about}' -- only about an equilibrium or a "
                              "steady motion (a programmed motion has a time-varying linearization)")
     lin: Linearization = linearize(model, about=about, at=at, **options)
-    lam = np.asarray(lin.eigenvalues, dtype=complex)
+    lam = np.linalg.eigvals(lin.A) if lin.A.size else np.zeros(0, complex)
     scale = max(1.0, float(np.abs(lam).max(initial=0.0)))
     off = [z for z in lam if abs(z.real) > TOLERANCE * scale]
     if off:
