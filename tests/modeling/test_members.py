@@ -1,0 +1,93 @@
+"""Elastic members ([[members]]): shape functions, exact matrices, the model-file keys and
+their errors, and the member coupled into every form."""
+
+import tomllib
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from nonideal import gallery
+from nonideal.analysis.crosscheck import compare_forms
+from nonideal.errors import ModelError
+from nonideal.modeling.members import XI, Member, member_matrices, shape_functions
+from nonideal.modeling.modelfile import model_from_dict
+
+BASE = """
+[parameters]
+L = 1.0
+rho_A = 1.0
+EI = 1.0
+[coordinates]
+q = []
+"""
+
+
+@pytest.mark.parametrize("ends", [("clamped", "free"), ("clamped", "pinned"), ("pinned", "free"), ("free", "clamped")])
+def test_polynomial_shapes_satisfy_the_geometric_end_conditions(ends):
+    for phi in shape_functions("beam", ends, 5, "polynomial"):
+        for end, at in zip(ends, (0, 1)):
+            if end in ("clamped", "pinned"):
+                assert phi.subs(XI, at) == 0
+            if end == "clamped":
+                assert sp.diff(phi, XI).subs(XI, at) == 0
+
+
+def test_matrices_are_the_exact_integrals():
+    phis = shape_functions("beam", ("clamped", "free"), 3, "polynomial")
+    mats = member_matrices("beam", phis)
+    for i in range(3):
+        for j in range(3):
+            assert mats["m"][i, j] == sp.integrate(phis[i] * phis[j], (XI, 0, 1))
+            assert mats["k"][i, j] == sp.integrate(sp.diff(phis[i], XI, 2) * sp.diff(phis[j], XI, 2), (XI, 0, 1))
+            assert mats["g1"][i, j] == sp.integrate((1 - XI ** 2) / 2 * sp.diff(phis[i], XI) * sp.diff(phis[j], XI), (XI, 0, 1))
+    sines = member_matrices("rod", shape_functions("rod", ("fixed", "free"), 2, "modes"))
+    assert sp.simplify(sines["m"] - sp.eye(2) / 2) == sp.zeros(2)
+    assert sp.simplify(sines["d"][0] - 4 / sp.pi ** 2) == 0     # int xi sin(pi xi/2) = 4/pi^2
+
+
+def member_file(extra: str) -> dict:
+    return tomllib.loads(BASE + "[[members]]\n" + extra)
+
+
+def test_a_model_file_member_adds_its_coordinates_and_initial_state():
+    m = model_from_dict(member_file('name = "beam"\nkind = "beam"\nlength = "L"\nmass_per_length = "rho_A"\n'
+                                    'bending_stiffness = "EI"\nends = ["clamped", "free"]\nmodes = 3\n'))
+    assert m.coordinates == ("beam_1", "beam_2", "beam_3")
+    assert m.numeric_initial()["beam_2'"] == 0.0
+    assert [e.name for e in m.elastic_members] == ["beam"] and m.members == ()
+    again = m.replace(parameters={"L": 2.0, "rho_A": 1.0, "EI": 1.0})   # not expanded twice
+    assert again.coordinates == m.coordinates
+    assert sp.simplify(again.kinetic - m.kinetic) == 0
+
+
+@pytest.mark.parametrize("extra, words", [
+    ('name = "b"\nkind = "bean"\nlength = "L"\nends = ["clamped", "free"]\nmodes = 2\n', ["did you mean 'beam'"]),
+    ('name = "b"\nkind = "beam"\nlength = "L"\nmass_per_length = "rho_A"\nbending_stiffness = "EI"\n'
+     'ends = ["clamped", "fre"]\nmodes = 2\n', ["end condition 'fre'", "did you mean 'free'"]),
+    ('name = "b"\nkind = "beam"\nlength = "L"\nmass_per_length = "rho_A"\naxial_stiffness = "EI"\n'
+     'ends = ["clamped", "free"]\nmodes = 2\n', ["missing bending_stiffness", "axial_stiffness is not a beam's"]),
+    ('name = "b"\nkind = "beam"\nlength = "L"\nmass_per_length = "rho_A"\nbending_stiffness = "EI"\n'
+     'ends = ["clamped", "free"]\nmodes = 40\n', ["modes must be a whole number from 1 to 16"]),
+    ('name = "b"\nkind = "beam"\nlength = "L"\nmass_per_length = "rho_A"\nbending_stiffness = "EI"\n'
+     'ends = ["clamped", "free"]\nmodes = 2\nshape = "modes"\n', ["not trigonometric", "polynomial"]),
+    ('name = "b"\nkind = "beam"\nlength = "L"\nmass_per_length = "rho_A"\nbending_stiffness = "E*I"\n'
+     'ends = ["clamped", "free"]\nmodes = 2\n', ["'E'", "'I'"]),
+    ('name = "b"\nkind = "beam"\nlength = "L"\nmass_per_length = "rho_A"\nbending_stiffness = "EI"\n'
+     'ends = ["clamped", "free"]\nmodes = 2\npoints = { tip = "2*L" }\n', ["outside the member"]),
+    ('name = "b"\nkind = "beam"\nlength = "L"\nmass_per_length = "rho_A"\nbending_stiffness = "EI"\n'
+     'ends = ["clamped", "free"]\nmodes = 2\nlenght = 1\n', ["lenght", "did you mean 'length'"]),
+])
+def test_bad_members_are_refused_by_name(extra, words):
+    with pytest.raises(ModelError) as err:
+        model_from_dict(member_file(extra), "m.toml")
+    text = str(err.value)
+    for w in words:
+        assert w in text, text
+
+
+def test_every_form_gives_the_same_accelerations_for_the_arm_on_the_cart():
+    model = gallery.load("elastic-arm-on-cart")
+    check = compare_forms(model, forms=("lagrange2", "kane", "appell", "maggi"), count=5)
+    assert set(check.accelerations) >= {"lagrange2", "kane", "appell", "maggi"}, check
+    assert check.worst() < 1e-8, check
