@@ -47,6 +47,26 @@ FILE = "elastic_arm_on_cart.toml"
 DEFAULTS = dict(M=2.0, k=200.0, L=1.0, rho_A=0.5, EI=10.0, m_tip=0.25)
 
 
+def build(modes: int = 4, **params) -> "Model":
+    """The arm on the cart with the Python API (the model file's system for the defaults)."""
+    from ..modeling.bodies import Particle
+    from ..modeling.frames import Frame
+    from ..modeling.members import Member
+    from ..modeling.model import Model
+    from ..modeling.points import Point
+
+    return Model(
+        name="Flexible arm on a cart", coordinates=["x"], parameters={**DEFAULTS, **params},
+        potential="k/2*x^2",
+        frames=[Frame("B", axis=["0", "0", "1"], angle="pi/2")],
+        points=[Point("cart", ["x", "0", "0"])],
+        members=[Member("arm", "beam", "L", "EI", ("clamped", "free"), modes, mass_per_length="rho_A",
+                        frame="B", origin="cart", points={"tip": "L"})],
+        bodies=[Particle("cart", "M", point="cart"), Particle("tip_mass", "m_tip", point="tip")],
+        initial={"x": 0.01, "x'": 0.0}, simulation={"t_end": 1.0},
+    )
+
+
 def frequency_matrix(b: float, M: float, k: float, L: float, rho_A: float, EI: float,
                      m_tip: float) -> np.ndarray:
     """The 4x4 matrix of the end conditions (module docstring) on (A, B, C, D) at ``b``."""
