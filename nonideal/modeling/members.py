@@ -351,8 +351,17 @@ class MemberExpansion:
 
         out = []
         values = {sp.Symbol(k): p.value for k, p in norm.m.parameters.items()}
+        frames = ["N", *(getattr(f, "name", "") for f in norm.m.frames)]
+        points = ["O", *(getattr(p, "name", "") for p in norm.m.points), *(p for m in self.members for p in m.points)]
         for m in self.members:
             where = f"member '{m.name}'"
+            for key, value, known, table in (("frame", m.frame, frames, "[[frames]]"),
+                                              ("origin", m.origin, points, "[[points]]")):
+                if value not in known:
+                    self.problems.append(f"{where}: {key} '{value}' is not declared{did_you_mean(value, known)}; "
+                                         f"declare it in {table}")
+            if m.frame not in frames or m.origin not in points:
+                continue
             length = self._constant(norm, m.length, f"{where}: length")
             if length is not None and not float(length.xreplace(values)) > 0:
                 self.problems.append(f"{where}: length must be positive (got {float(length.xreplace(values)):g})")
