@@ -146,3 +146,17 @@ def test_unstable_equilibrium_has_no_natural_frequencies():
     p["g"] = p["g"] / 1.2 * 0.98
     assert natural_frequencies(Model("column", [], p, gravity=("-g", "0", "0"), members=m.elastic_members),
                                at={}).omega[0] > 0
+
+
+@pytest.mark.parametrize("ends, equation, rigid", [
+    (("pinned", "free"), lambda b: np.tan(b) - np.tanh(b), 1),            # 3.9266, 7.0686
+    (("free", "free"), lambda b: 1 - np.cos(b) * np.cosh(b), 2),          # 4.7300, 7.8532
+    (("clamped", "clamped"), lambda b: 1 - np.cos(b) * np.cosh(b), 0),
+])
+def test_beams_with_rigid_body_motions(ends, equation, rigid):
+    """The polynomials keep the rigid motions the ends allow: zero frequencies, counted."""
+    exact = [b for b in roots(lambda b: equation(b) * np.cos(b), 4, 8.5) if abs(np.cos(b)) > 1e-6][:2]
+    f = natural_frequencies(beam(10, ends), at={})
+    assert f.rigid == rigid
+    assert np.allclose(f.omega[:2], np.array(exact) ** 2 * scale(P), rtol=2e-6)
+    assert np.all(np.array(f.omega[:2]) >= np.array(exact) ** 2 * scale(P) * (1 - 1e-12))

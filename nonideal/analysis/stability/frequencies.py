@@ -43,7 +43,8 @@ class Frequencies:
     omega : tuple of float
         The nonzero circular frequencies (rad per time unit), ascending.
     rigid : int
-        The number of zero frequencies (rigid-body motions among the kept coordinates).
+        The number of zero frequencies: rigid-body motions (a coordinate nothing depends on,
+        dropped from the linearization as ignorable, counts as one).
     modes : tuple of dict
         For each frequency, the coordinates' amplitudes of its mode (real, the largest 1).
     linearization : Linearization
@@ -133,4 +134,8 @@ def natural_frequencies(model: Model, at: Any = None, about: str = "equilibrium"
             rows.append((float(z.imag), {name: float(np.real(a)) for name, a in
                                          zip(lin.variables[:n_q], shape)}))
     rows.sort(key=lambda r: r[0])
-    return Frequencies(model.name, tuple(w for w, _ in rows), zero // 2, tuple(m for _, m in rows), lin)
+    # a rigid motion is a double zero eigenvalue, or a single one when linearize dropped its
+    # coordinate as ignorable (nothing depends on it) and kept its velocity
+    dropped = len(lin.ignorable)
+    rigid = dropped + max(0, zero - dropped) // 2
+    return Frequencies(model.name, tuple(w for w, _ in rows), rigid, tuple(m for _, m in rows), lin)
