@@ -111,3 +111,19 @@ def test_every_form_and_the_gauss_principle_give_the_same_accelerations(build):
     check = compare_forms(build(), count=5)
     assert {"lagrange2", "kane", "appell", "maggi", "gauss"} <= set(check.accelerations), check
     assert check.worst() < 1e-8, check
+
+
+@pytest.mark.slow
+def test_sixteen_shape_functions_stay_well_conditioned():
+    """The Legendre-based basis keeps the mass matrix usable at 16 functions (monomials give a
+    Hilbert matrix): the cantilever's first three frequencies to 1e-9."""
+    from nonideal.analysis.stability.frequencies import natural_frequencies
+    from nonideal.modeling.model import Model
+
+    m = Model("cantilever", [], {"L": 1.0, "rho_A": 1.0, "EI": 1.0},
+              members=[Member("beam", "beam", "L", "EI", ("clamped", "free"), 16, mass_per_length="rho_A")])
+    mass = np.array(member_matrices("beam", shape_functions("beam", ("clamped", "free"), 16, "polynomial"))["m"],
+                    dtype=float)
+    assert np.linalg.cond(mass) < 1e8
+    w = natural_frequencies(m, at={}).omega[:3]
+    assert np.allclose(np.sqrt(w), [1.8751040687, 4.6940911330, 7.8547574382], rtol=1e-9)
