@@ -203,21 +203,21 @@ class Dynamics:
     @cached_property
     def T(self):
         """Kinetic energy (expression plus bodies)."""
-        T = self.kinetic
+        terms = [self.kinetic]   # one sum at the end: adding term by term is O(bodies^2)
         for it in self._bodies:
-            T += it["m"] * sum((vi * vi for vi in it["v"]), se.Integer(0)) / 2
+            terms.append(it["m"] * sum((vi * vi for vi in it["v"]), se.Integer(0)) / 2)
             b = it["body"]
             if isinstance(b, PlanarBody):
-                T += it["I"] * it["omega"] ** 2 / 2
+                terms.append(it["I"] * it["omega"] ** 2 / 2)
             elif isinstance(b, RigidBody):
                 Om, I = it["Omega"], it["I"]
-                T += sum((Om[i] * I[i][j] * Om[j] for i in range(3) for j in range(3)), se.Integer(0)) / 2
-        return T
+                terms.append(sum((Om[i] * I[i][j] * Om[j] for i in range(3) for j in range(3)), se.Integer(0)) / 2)
+        return se.Add(*terms)
 
     @cached_property
     def V(self):
         """Potential energy (expression plus uniform gravity on the bodies)."""
-        V = to_se(self.model.potential)
+        terms = [to_se(self.model.potential)]
         if self.model.gravity is not None:
             g = [to_se(c) for c in self.model.gravity]
             for it in self._bodies:
@@ -227,8 +227,8 @@ class Dynamics:
                         f"body '{it['body'].name}': position has {len(r)} components but "
                         f"[gravity] vector has {len(g)}; give the gravity vector as many "
                         f"components as the positions ({len(r)})", _source(self.model))
-                V -= it["m"] * sum((gi * ri for gi, ri in zip(g, r)), se.Integer(0))
-        return V
+                terms.append(-it["m"] * sum((gi * ri for gi, ri in zip(g, r)), se.Integer(0)))
+        return se.Add(*terms)
 
     @cached_property
     def Q_nc(self):

@@ -248,7 +248,7 @@ class Simulation:
     def _energy(self, t, q, qd) -> float:
         """Jacobi's energy ``T2 - T0 + V`` at a state."""
         x = self.solver.input(t, q, qd)
-        M = self.kernel.dynamics(x)["M"]
+        M = self.kernel.mass(self.kernel.dynamics(x))   # sparse for many coordinates
         obs = self.kernel.observables(x)
         return float(0.5 * qd @ M @ qd - obs["T0"] + obs["V"])
 

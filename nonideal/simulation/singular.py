@@ -155,7 +155,7 @@ class Regularity:
     def _arrays(self, motion):
         """``(G, M)`` at the state of *motion*."""
         out = self.kernel.dynamics(motion.solver.input(motion.t, motion.q, motion.qd))
-        return np.asarray(out["G"], dtype=float).reshape(-1, motion.n), np.asarray(out["M"], dtype=float)
+        return self.kernel.dense(out, "G").reshape(-1, motion.n), self.kernel.dense(out, "M")
 
     def crossing(self, step, rows: list[int], level: float = SINGULAR, force: bool = False) -> float | None:
         """The first time in *step* (:class:`~nonideal.simulation.guards.Step`) where the
@@ -426,7 +426,7 @@ def mass_stall(model, solver, t: float, y: np.ndarray, t0: float, y0: np.ndarray
     n = solver.n
 
     def eig(tt, yy):
-        M = np.asarray(solver.kernel.dynamics(solver.input(tt, yy[:n], yy[n:2 * n]))["M"], dtype=float)
+        M = solver.kernel.dense(solver.kernel.dynamics(solver.input(tt, yy[:n], yy[n:2 * n])), "M")
         return np.linalg.eigh((M + M.T) / 2)
     w0, _ = eig(t0, y0)
     w, v = eig(t, y)
@@ -469,7 +469,7 @@ class MassGuard:
 
     def _eig(self, t, y):
         solver, n = self.sim.solver, self.sim.n
-        M = np.asarray(solver.kernel.dynamics(solver.input(t, y[:n], y[n:2 * n]))["M"], dtype=float)
+        M = solver.kernel.dense(solver.kernel.dynamics(solver.input(t, y[:n], y[n:2 * n])), "M")
         return np.linalg.eigvalsh((M + M.T) / 2)
 
     def check(self, step) -> None:
