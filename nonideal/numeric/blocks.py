@@ -29,7 +29,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
 __all__ = ["blocks_of", "BlockSolver", "definite_above", "definite_above_sparse", "SparseSaddle",
-           "dependent_rows", "BLOCKS_MIN_N"]
+           "dependent_rows", "row_groups", "BLOCKS_MIN_N"]
 
 BLOCKS_MIN_N = 64
 """Below this many coordinates a mass matrix is factored whole (one LAPACK call is faster
@@ -284,3 +284,38 @@ def dependent_rows(G, tol: float) -> list[int]:
             else:
                 out.append(int(rows_g[j]))
     return sorted(out)
+
+
+def row_groups(n: int, g_rows: np.ndarray, g_cols: np.ndarray, m_rows: np.ndarray, m_cols: np.ndarray,
+               rows: list[int]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The constraint rows *rows* split into groups that neither share a coordinate nor are
+    coupled through the mass matrix, so that ``G M^-1 G^T`` is block diagonal by group.
+
+    Parameters
+    ----------
+    n : int
+        Number of coordinates.
+    g_rows, g_cols : ndarray of int
+        Nonzero pattern of ``G`` (kernel row, coordinate).
+    m_rows, m_cols : ndarray of int
+        Nonzero pattern of ``M``.
+    rows : list of int
+        The kernel rows concerned.
+
+    Returns
+    -------
+    list of (ndarray, ndarray)
+        Per group: positions in *rows*, and the coordinates of the group (sorted).
+    """
+    where = {r: k for k, r in enumerate(rows)}
+    pick = np.array([r in where for r in g_rows.tolist()], dtype=bool)
+    k = len(rows)
+    node_r = np.array([where[r] for r in g_rows[pick].tolist()], dtype=np.intp)
+    a = np.concatenate((node_r, k + m_rows))
+    b = np.concatenate((k + g_cols[pick], k + m_cols))
+    out = []
+    for g in _components(k + n, a, b):
+        pos = np.sort(g[g < k])
+        if len(pos):
+            out.append((pos, np.sort(g[g >= k] - k)))
+    return out

@@ -421,10 +421,13 @@ class Kernel:
             self.patterns["M"] = SparsePattern((n, n), [ij for ij, _ in mass])
             outputs = {"M": [e for _, e in mass], "F": F}
             if m:
-                G = [((i, j), r.G[j]) for i, r in enumerate(self.rows) for j in range(n)]
-                B = [((j, i), r.B[j]) for j in range(n) for i, r in enumerate(self.rows)]
-                G = [(ij, e) for ij, e in G if se.sympify(e) != 0]
-                B = [(ij, e) for ij, e in B if se.sympify(e) != 0]
+                # nonzero entries by row (O(nnz) symbolic tests: the zeros are the Integer 0
+                # the rows are built with, found by identity first)
+                zero = se.Integer(0)
+                G = [((i, j), e) for i, r in enumerate(self.rows) for j, e in enumerate(r.G)
+                     if e is not zero and e != 0]
+                B = sorted(((j, i), e) for i, r in enumerate(self.rows) for j, e in enumerate(r.B)
+                           if e is not zero and e != 0)
                 self.patterns["G"] = SparsePattern((m, n), [ij for ij, _ in G])
                 self.patterns["B"] = SparsePattern((n, m), [ij for ij, _ in B])
                 outputs.update(G=[e for _, e in G], gamma=gamma, B=[e for _, e in B])

@@ -96,3 +96,62 @@ def test_sparse_helpers():
     saddle = SparseSaddle(3, rows, cols, np.arange(len(rows)))
     x, _ = SparseSaddle.factor(saddle.matrix(saddle.data(K[rows, cols])), np.array([1.0, 2.0, 3.0]))
     assert np.allclose(x, np.linalg.solve(K, [1.0, 2.0, 3.0]), rtol=1e-14)
+
+
+def elastic_chain(n):
+    """n links, each its own (x, y, th) and a knife edge, springs between the centres."""
+    from nonideal import Model
+    from nonideal.modeling.bodies import PlanarBody
+    from nonideal.modeling.model import Constraint
+    import math
+    init = {}
+    for i in range(n):
+        th = 0.3 * (-1) ** i
+        init.update({f"x{i}": float(i), f"y{i}": 0.0, f"th{i}": th,
+                     f"x{i}'": math.cos(th), f"y{i}'": math.sin(th), f"th{i}'": 0.0})
+    springs = "+".join(f"(x{i + 1}-x{i}-l)^2+(y{i + 1}-y{i})^2" for i in range(n - 1))
+    return Model(name="elastic chain", coordinates=[f"{a}{i}" for i in range(n) for a in ("x", "y", "th")],
+                 parameters={"m": 1.0, "l": 1.0, "k": 100.0},
+                 bodies=[PlanarBody(f"link{i}", "m", "m*l^2/12", [f"x{i}", f"y{i}"], f"th{i}") for i in range(n)],
+                 constraints=[Constraint.nonholonomic(f"knife{i}", f"-x{i}'*sin(th{i}) + y{i}'*cos(th{i})")
+                              for i in range(n)],
+                 potential=f"k/2*({springs})", initial=init,
+                 simulation={"t_end": 0.2, "rtol": 1e-10, "atol": 1e-12})
+
+
+@pytest.mark.slow
+def test_chain_of_200_knife_edges_is_solved_sparse_and_keeps_its_invariants():
+    model = elastic_chain(200)   # 600 coordinates: a compact kernel
+    kernel = kernel_of(model)
+    assert kernel.compact
+    # M diagonal, G two entries per row: no n^2 layout
+    assert kernel.dynamics.size == 600 + 600 + 2 * 200 + 200 + 2 * 200
+    traj = simulate(model)
+    system = system_of(kernel, select_mode(ModeSolver(kernel, parameter_vector(model)), 0.0,
+                                           traj.q[0], traj.qd[0]))
+    assert system.sparse is not None and system.sparse.s == 800
+    E = np.asarray(traj.energy["energy"])
+    assert np.max(np.abs(E - E[0])) < 1e-9 * abs(E[0])   # springs conservative, knife edges ideal
+    assert traj.diagnostics["constraint_residual_max"] < 1e-12
+    th, xd, yd = traj.q[-1][2::3], traj.qd[-1][0::3], traj.qd[-1][1::3]
+    assert np.max(np.abs(-xd * np.sin(th) + yd * np.cos(th))) < 1e-12
+
+
+@pytest.mark.slow
+def test_check_of_3000_particles_keeps_m_sparse():
+    from nonideal import Model, Particle
+    from nonideal.analysis.checks import check_model
+    n = 3000
+    coords = [f"{a}{k}" for k in range(n) for a in "xyz"]
+    init = {c: 0.0 for c in coords}
+    init.update({c + "'": 0.1 for c in coords})
+    model = Model(name="free particles", coordinates=coords, parameters={"m": 2.0, "g": 9.81},
+                  bodies=[Particle(f"p{k}", "m", [f"x{k}", f"y{k}", f"z{k}"]) for k in range(n)],
+                  gravity=["0", "0", "-g"], initial=init)
+    assert check_model(model).initial_mode == "free"
+    kernel = kernel_of(model)
+    assert kernel.compact and kernel.dynamics.size == 2 * 3 * n   # M's diagonal and F
+    sol = ModeSolver(kernel, parameter_vector(model)).solve(0.0, np.zeros(3 * n), np.full(3 * n, 0.1),
+                                                            select_mode(ModeSolver(kernel, parameter_vector(model)),
+                                                                        0.0, np.zeros(3 * n), np.full(3 * n, 0.1)))
+    assert np.allclose(sol.qdd[2::3], -9.81, rtol=1e-15) and not np.any(sol.qdd[0::3]) and issparse(sol.M)
