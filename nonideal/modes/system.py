@@ -550,6 +550,7 @@ def compliance_of(M: np.ndarray, B: np.ndarray, G: np.ndarray, j: int) -> float:
     system ``M a = F + B lambda``, ``G a + gamma = 0`` (the lower-right block of the inverse of
     ``[[M, -B], [G, 0]]`` is ``(G M^-1 B)^-1``); 0 when that matrix is singular."""
     n, m = M.shape[0], G.shape[0]
+    M, B, G = (A.toarray() if issparse(A) else A for A in (M, B, G))   # sparse: many coordinates
     K = np.zeros((n + m, n + m))
     K[:n, :n] = M
     K[:n, n:] = -B

@@ -155,3 +155,15 @@ def test_check_of_3000_particles_keeps_m_sparse():
                                                             select_mode(ModeSolver(kernel, parameter_vector(model)),
                                                                         0.0, np.zeros(3 * n), np.full(3 * n, 0.1)))
     assert np.allclose(sol.qdd[2::3], -9.81, rtol=1e-15) and not np.any(sol.qdd[0::3]) and issparse(sol.M)
+
+
+@pytest.mark.parametrize("name", ["block-on-incline", "painleve-two-points", "chaplygin-sleigh"])
+def test_compact_evaluate_reports_the_dense_numbers(name, monkeypatch):
+    from nonideal.analysis.evaluation import evaluate
+    dense, compact = pair(name, monkeypatch)
+    a, b = evaluate(dense).to_dict(), evaluate(compact).to_dict()
+    assert a.keys() == b.keys()
+    for key in ("qddot", "multipliers", "reactions", "contacts", "mode"):
+        assert repr(b[key]) == repr(a[key]) or np.allclose(np.asarray(b[key], dtype=float) if isinstance(b[key], list) else 0,
+                                                             np.asarray(a[key], dtype=float) if isinstance(a[key], list) else 0,
+                                                             rtol=1e-12, atol=1e-12), key
