@@ -31,12 +31,15 @@ import symengine as se
 from scipy.linalg import lapack
 from scipy.sparse import csr_matrix, issparse
 
+from . import compact
+from .compact import SparsePattern
+
 from ..equations.dynamics import ConstraintRow, Dynamics, dynamics_of
 from ..equations.eom import EquationsOfMotion
 from ..errors import MechanicsError, ModelError, did_you_mean
 from ..modeling.model import Model
 
-__all__ = ["Compiled", "Sparse", "SparsePattern", "SPARSE_MIN_N", "Kernel", "FormSystem", "solve_saddle", "SingularMatrix", "kernel_of", "max_abs"]
+__all__ = ["Compiled", "Sparse", "Kernel", "FormSystem", "solve_saddle", "SingularMatrix", "kernel_of", "max_abs"]
 
 
 class SingularMatrix(Exception):
@@ -108,50 +111,14 @@ def _lambdify(inputs, exprs, optimize: bool):
         renamed.append(e.xreplace({s: rename[s] for s in free if s in rename}) if free else e)
     exprs, inputs = renamed, safe
     cse = size <= CSE_MAX_SYMBOLS
-    if len(exprs) * len(inputs) > CHUNK_MIN_WORK:
-        return _Chunked(inputs, exprs, optimize, cse)
+    if len(exprs) * len(inputs) > compact.CHUNK_MIN_WORK:
+        return compact.Chunked(inputs, exprs, optimize, _lambdify)
     if _LLVM and not optimize:
         try:
             return se.Lambdify(inputs, exprs, cse=cse, backend="llvm", opt_level=0)
         except (TypeError, ValueError, RuntimeError):  # pragma: no cover - older SymEngine
             pass
     return se.Lambdify(inputs, exprs, cse=cse)
-
-
-CHUNK_MIN_WORK = 20_000_000
-"""Above this product of outputs and inputs a Lambdify is split into chunks of
-:data:`CHUNK_SIZE` outputs, each over only the inputs it reads: SymEngine's build time grows
-with outputs x inputs (10 000 particles, 60 000 inputs and 40 000 outputs: 25 s in one piece;
-in chunks it grows with the size)."""
-
-CHUNK_SIZE = 2048
-
-
-class _Chunked:
-    """Several Lambdify over consecutive chunks of the outputs, each over its own inputs; called
-    like one (``unsafe_real(x, out)``, and on a batch of input rows)."""
-
-    def __init__(self, inputs, exprs, optimize: bool, cse: bool):
-        position = {s: i for i, s in enumerate(inputs)}
-        self.size = len(exprs)
-        self.parts = []
-        for lo in range(0, len(exprs), CHUNK_SIZE):
-            chunk = exprs[lo:lo + CHUNK_SIZE]
-            used = sorted({position[s] for e in chunk for s in e.free_symbols if s in position})
-            if not used:   # constants only: one dummy input
-                used = [0]
-            fn = _lambdify([inputs[i] for i in used], chunk, optimize)
-            self.parts.append((slice(lo, lo + len(chunk)), np.array(used, dtype=np.intp), fn))
-
-    def unsafe_real(self, x: np.ndarray, out: np.ndarray) -> None:
-        for sl, used, fn in self.parts:
-            fn.unsafe_real(np.ascontiguousarray(x[used]), out[sl])
-
-    def __call__(self, X: np.ndarray) -> np.ndarray:
-        out = np.empty((len(X), self.size))
-        for sl, used, fn in self.parts:
-            out[:, sl] = np.asarray(fn(np.ascontiguousarray(X[:, used])), dtype=float).reshape(len(X), -1)
-        return out
 
 
 class Compiled:
@@ -330,37 +297,6 @@ def solve_saddle(A: np.ndarray, b: np.ndarray, B: np.ndarray | None = None,
     return x[:k], mu
 
 
-SPARSE_MIN_N = 500
-"""From this many coordinates :class:`Kernel` compiles ``M``, ``G`` and ``B`` as the vectors
-of their nonzero entries (:class:`SparsePattern`) and the numeric stage keeps them sparse:
-the dense layout of 10 000 particles alone would be 30 000^2 doubles (7.2 GB), and filling
-and gathering an n x n buffer costs O(n^2) per evaluation.  Below it the dense layout (one
-LAPACK call) is faster and the results of small models stay those of the dense path."""
-
-
-class SparsePattern:
-    """The nonzero positions of a matrix output compiled as a vector of its entries, in
-    row-major order (so the vector is the ``data`` of a CSR matrix).
-
-    Parameters
-    ----------
-    shape : (int, int)
-    positions : list of (int, int)
-        Sorted row-major, no repeats.
-    """
-
-    def __init__(self, shape: tuple[int, int], positions):
-        self.shape = shape
-        ij = np.array(positions, dtype=np.intp).reshape(-1, 2)
-        self.rows, self.cols = ij[:, 0], ij[:, 1]
-        self.indptr = np.concatenate(([0], np.cumsum(np.bincount(self.rows, minlength=shape[0]))))
-
-    def matrix(self, values) -> csr_matrix:
-        """The CSR matrix with the entries *values* (copied)."""
-        return csr_matrix((np.array(values, dtype=float), self.cols.copy(), self.indptr.copy()),
-                          shape=self.shape)
-
-
 @dataclass
 class Inputs:
     """Layout of the flat input vector ``[t, q, q', parameters]``."""
@@ -412,9 +348,9 @@ class Kernel:
         F = list(dyn.F)
         gamma = [r.gamma for r in self.rows]
         #: whether ``M``, ``G`` and ``B`` are compiled as the vectors of their nonzero entries
-        #: (many coordinates: :data:`SPARSE_MIN_N`); read them with :meth:`mass`,
+        #: (many coordinates: :data:`~nonideal.numeric.compact.SPARSE_MIN_N`); read them with :meth:`mass`,
         #: :meth:`gradients`, :meth:`reactions`
-        self.compact = n >= SPARSE_MIN_N
+        self.compact = n >= compact.SPARSE_MIN_N
         self.patterns: dict[str, SparsePattern] = {}
         if self.compact:
             mass = sorted(dyn.mass_entries.items())

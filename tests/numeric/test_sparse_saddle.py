@@ -1,6 +1,6 @@
 """The compact kernel (M, G, B as vectors of their nonzero entries) and the sparse
 saddle-point solves give the numbers of the dense path: the same models built twice, once
-with the threshold :data:`~nonideal.numeric.kernel.SPARSE_MIN_N` lowered so that even their
+with the threshold :data:`~nonideal.numeric.compact.SPARSE_MIN_N` lowered so that even their
 few coordinates take the sparse path."""
 
 import numpy as np
@@ -12,7 +12,7 @@ from nonideal.errors import ModelError
 from nonideal.modes.solver import ModeSolver
 from nonideal.modes.switching import select_mode
 from nonideal.modes.system import system_of
-from nonideal.numeric import kernel as kernel_module
+from nonideal.numeric import compact as compact_module
 from nonideal.numeric.blocks import SparseSaddle, definite_above, definite_above_sparse, dependent_rows
 from nonideal.numeric.consistency import complete_state
 from nonideal.numeric.kernel import kernel_of, parameter_vector
@@ -27,7 +27,7 @@ def pair(name, monkeypatch):
     dense = gallery.load(name)
     kernel_of(dense)
     with monkeypatch.context() as mp:
-        mp.setattr(kernel_module, "SPARSE_MIN_N", 1)
+        mp.setattr(compact_module, "SPARSE_MIN_N", 1)
         compact = gallery.load(name)
         kernel_of(compact)
     assert not kernel_of(dense).compact and kernel_of(compact).compact
@@ -75,7 +75,7 @@ def test_compact_simulation_follows_the_dense_one(name, monkeypatch):
 
 def test_compact_diagnosis_names_a_singular_mass_matrix(monkeypatch):
     from nonideal import Model
-    monkeypatch.setattr(kernel_module, "SPARSE_MIN_N", 1)
+    monkeypatch.setattr(compact_module, "SPARSE_MIN_N", 1)
     model = Model(name="no inertia", coordinates=["x", "y"], parameters={"m": 1.0},
                   kinetic="m/2*x'^2", initial={"x": 0.0, "y": 0.0, "x'": 1.0, "y'": 0.0})
     from nonideal.analysis.checks import check_model
