@@ -187,7 +187,14 @@ class Motion:
     def constraint_acc(self, row: int) -> float:
         """``f'' = G q'' + gamma`` of kernel row *row* (a released unilateral constraint)."""
         n = self.n
-        return float(self._dynamics("G")[row * n:(row + 1) * n] @ self.qdd + self._dynamics("gamma")[row])
+        kernel = self.solver.kernel
+        if kernel.compact:
+            pattern = kernel.patterns["G"]
+            lo, hi = pattern.indptr[row], pattern.indptr[row + 1]
+            g = self._dynamics("G")[lo:hi] @ self.qdd[pattern.cols[lo:hi]]
+        else:
+            g = self._dynamics("G")[row * n:(row + 1) * n] @ self.qdd
+        return float(g + self._dynamics("gamma")[row])
 
     # ------------------------------------------------------------------ kinematics
     @property

@@ -290,7 +290,7 @@ def native_of(kernel) -> Native | None:
     """The (cached) :class:`Native` module of *kernel*, or None when numba is not installed or
     the kernel uses a function the native code does not write."""
     def build():
-        if not available():
+        if not available() or kernel.compact:   # many coordinates: the sparse solves of the NumPy path
             return None
         try:
             import numba
