@@ -154,13 +154,15 @@ class Motion:
         j = self.system.normal_of.get(c)  # a friction torque: its contact's normal force
         return 0.0 if j is None else float((self.values if values is None else values)[j])
 
-    def friction(self, c: int, values: np.ndarray | None = None) -> np.ndarray:
-        """Friction force of contact *c* (its slip components); *values* as for :meth:`normal`."""
+    def friction(self, c: int, values: np.ndarray | None = None, continued: bool = True) -> np.ndarray:
+        """Friction force of contact *c* (its slip components); *values* as for :meth:`normal`;
+        *continued* as for :meth:`~nonideal.modes.solver.ModeSolver.friction_shape` (False for a
+        sample reported after the run)."""
         cs = self.mode.contacts[c][1]
         if cs.state == STICK:
             return (self.values if values is None else values)[self.system.tangent_cols[c]]
         if cs.state in (SLIDE, SMOOTH):
-            s = self.solver.friction_shape(c, cs, self.slip(c), self.qd)
+            s = self.solver.friction_shape(c, cs, self.slip(c), self.qd, continued)
             return -cs.sigma * self.mu(c) * self.normal(c, values) * s
         return np.zeros(self.solver.ck.dims[c])
 
@@ -248,7 +250,7 @@ class Motion:
         forces as reported: :attr:`reported`)."""
         at, kin = self.solver.ck.at, self.kin
         shown = self.reported
-        return (self.mode.contacts[c][1].label(), self.normal(c, shown), self.friction(c, shown), self.slip(c),
+        return (self.mode.contacts[c][1].label(), self.normal(c, shown), self.friction(c, shown, False), self.slip(c),
                 kin[at["gap"] + c], kin[at["mu_s"] + c])
 
     def residuals(self, drift) -> tuple[float, float]:

@@ -149,11 +149,14 @@ class ModeSolver:
 
     # ------------------------------------------------------------------ friction shapes
     def friction_shape(self, c: int, cs: ContactState, U: np.ndarray,
-                       qd: np.ndarray | None = None) -> np.ndarray:
+                       qd: np.ndarray | None = None, continued: bool = True) -> np.ndarray:
         """The vector ``s`` with friction ``F = -sigma mu N s`` (unit slip direction for
         Coulomb sliding; the regularized shape for the smooth laws, zero for a frictionless
         contact).  *qd*: the velocities of the state (default: those of the last
-        :meth:`input`), which scale the test ``|U| ~ 0``."""
+        :meth:`input`), which scale the test ``|U| ~ 0``.  *continued* False: the direction of
+        the slip itself, not its continuation through a stop within the current step (the
+        orientation kept from the step's start belongs to the step being taken, not to a
+        sample reported afterwards)."""
         law = self.laws[c]
         if cs.state == SMOOTH:
             nrm = float(np.sqrt(U @ U))
@@ -174,7 +177,7 @@ class ModeSolver:
             # analytic continuation through U = 0 within a step: keep the orientation of the
             # slip at the start of the step, so that the right-hand side stays smooth up to
             # (and a little past) the stop, where the SlipStop event places the switch
-            if ref is not None and s @ ref < 0:
+            if continued and ref is not None and s @ ref < 0:
                 s = -s
             return s
         if ref is not None:

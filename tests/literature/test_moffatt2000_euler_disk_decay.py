@@ -29,3 +29,22 @@ def test_quasi_steady_sinking_with_rolling_friction():
     assert qs["alpha_end"] < 0.25 and qs["trend_error"] < 0.08
     assert qs["Omega_relation_max_dev"] < 0.05
     assert qs["Omega_end"] > 1.07 * 57.6157     # the precession speeds up as the disk sinks
+
+
+def test_reported_torques_oppose_the_motion_at_every_sample():
+    """The rolling torque reported at a sample opposes the rolling velocity it resists (the
+    orientation a step keeps to continue the law through a stop belongs to that step, not to
+    samples reported after the run: before, the sign flipped with the precession, every
+    2 pi / Omega)."""
+    import numpy as np
+
+    from nonideal import simulate
+
+    tr = simulate(example.build(ls=0.0, t_end=0.25), times=np.linspace(0.0, 0.25, 251))
+    c = tr.contacts["table_rolling"]
+    F, U = np.array(c["friction"]), np.array(c["slip"])
+    N = np.asarray(c["normal"])
+    power = np.einsum("ij,ij->i", F, U)
+    assert np.all(power <= 1e-12 * np.abs(U).max() * N.max())
+    # and equals -lr N |U| (Coulomb's law for the rolling torque)
+    assert np.allclose(power, -1e-4 * N * np.linalg.norm(U, axis=1), rtol=1e-9, atol=0)  # lr = 0.1 mm
