@@ -11,20 +11,26 @@ state of the motion is ``(q, q', R, R', ..., R^(n-3))``).  Two ways of realizing
   Béghin's sense): ``R = B lambda`` with one scalar ``lambda`` -- the constraint may then be
   nonlinear in ``q^(n)`` (quadratic along B: a root rule chooses the branch);
 * **ideal** (no ``reaction``; linear in ``q^(n)``): the generalized Gauss principle of order n
-  (Yushkov 1999, ch. IV, sec. 5).  With ``M q'' = F + R`` differentiated ``n - 2`` times,
-  ``M q^(n) = R^(n-2) + (terms of the state)``; among the n-th derivatives the constraint allows,
-  the actual one minimizes ``(q^(n) - q^(n)_0)^T M (q^(n) - q^(n)_0)/2``, where ``q^(n)_0`` is
-  the one with ``R^(n-2) = 0``.  Its minimum has ``M (q^(n) - q^(n)_0) = Lambda g``, ``g = (d f /
-  d q^(n))^T``: the derivative of order ``n - 2`` of the ideal reaction is along the gradient,
-  ``R^(n-2) = Lambda g`` (for order two the same principle gives ``R = lambda g``, for order
-  three ``R' = Lambda g``).  R is an n_q-vector of the state.
+  (Yushkov 1999, ch. IV, sec. 5; appendix D).  The equations of motion ``M W = Y + R`` of the
+  representing point, differentiated ``n - 2`` times as vectors, give ``M W^(n-2) = Y^(n-2) +
+  R^(n-2)``; among the n-th derivatives the constraint allows, the actual one minimizes the
+  compulsion ``M |W^(n-2) - Y^(n-2)/M|^2 / 2``, so ``R^(n-2) = Lambda grad f``: in generalized
+  coordinates, ``(D^(n-2) R)_s = Lambda g_s``, ``g = (d f / d q^(n))^T``, where ``D`` is the
+  covariant derivative along the motion in the metric of the mass matrix (the rate of the
+  vector, not of its components: ``(D P)_s = P_s' - Gamma^r_(s u) q'^u P_r``).  In Cartesian
+  coordinates of particles (M constant) ``D`` is the plain derivative, ``R^(n-2) = Lambda g``
+  (for order two the same principle gives ``R = lambda g``, for order three ``R' = Lambda g``);
+  in curvilinear ones (a satellite in polar coordinates, appendix D) the basis turns, and
+  without the connection term the motion would depend on the coordinates chosen.  R is an
+  n_q-vector of the state, with ``D R, .., D^(n-3) R``.
 
 **The extension.**  The force's unknown components ``w`` (lambda, or R) and their derivatives
-``w^(k)``, ``k = 0 .. n - 3``, become the velocities of auxiliary coordinates ``z_k`` (``z_0`` is
-the impulse of the force, ``int w dt``; ``z_k``, ``k >= 1``, the impulse of ``w^(k)``) with the
-kinetic energy ``|z_k'|^2/2``.  The force acts on the coordinates as the generalized force ``D w``
+``w^(k)`` (ideal: ``D^k R``), ``k = 0 .. n - 3``, become the velocities of auxiliary coordinates
+``z_k`` (``z_0`` is the impulse of the force, ``int w dt``; ``z_k``, ``k >= 1``, the impulse
+of ``w^(k)``) with the kinetic energy ``|z_k'|^2/2``.  The force acts on the coordinates as the generalized force ``D w``
 (``D = B``, or the identity), and the chain ``z_k'' = z_(k+1)'`` is the generalized force
-``z_(k+1)'`` on ``z_k`` (``k < n - 3``).  With the other constraints' reactions solved for,
+``z_(k+1)'`` on ``z_k`` (``k < n - 3``; ideal: ``z_(k+1)' + Gamma q' z_k'``, and ``Gamma q'
+z_(n-3)'`` on the last level).  With the other constraints' reactions solved for,
 ``q'' = a(q, q', w, t)`` (linear in w), so ``q^(n) = d^(n-2) a/dt^(n-2)`` is linear in
 ``w^(n-2) = z_(n-3)''`` and
 
@@ -32,7 +38,7 @@ kinetic energy ``|z_k'|^2/2``.  The force acts on the coordinates as the general
 
 is a *second-order* constraint of the extended model, realized by a force on ``z_(n-3)`` alone
 along ``e`` (direction B) or ``g`` (ideal): ``z_(n-3)'' = e mu`` -- ``mu = lambda^(n-2)`` -- or
-``z_(n-3)'' = g mu`` -- ``mu = Lambda``.  The extended model is an ordinary model: its simulation
+``z_(n-3)'' = Gamma q' z_(n-3)' + g mu`` -- ``mu = Lambda``.  The extended model is an ordinary model: its simulation
 is the motion; the auxiliary energy ``sum |z_k'|^2/2`` and the works of the chain and of ``mu`` on
 the ``z_k`` cancel in its balance and are taken out again by
 :func:`nonideal.simulation.extended.reduce`.  Explicit symbolic cost: one LU solve of the other
@@ -142,20 +148,31 @@ def _extend(model: Model) -> Extension:
         aux = tuple(tuple(_unique(a, taken) for a in aux_names(c.name, k, model.coordinates, ideal))
                     for k in range(levels))
         specs.append(HighOrder(c.name, order, ideal, aux, None if ideal else tuple(sp.sympify(b) for b in c.reaction)))
-    # w[k]: the velocities of level k of every constraint (the forces' k-th derivatives);
-    # wd: the accelerations of the last level (the derivative of order n - 2, the unknown)
-    w = [[_velocity(a) for s in specs for a in s.aux[k]] for k in range(levels)]
-    wd = [sp.Symbol(str(v) + "'") for v in w[-1]]
+    # w: the velocities of level 0 of every constraint (the forces)
+    w = [_velocity(a) for s in specs for a in s.aux[0]]
     # D: the generalized force of the level-0 velocities on the coordinates, n x (columns)
     cols = []
     for s in specs:
         cols += [[sp.Integer(1 if i == k else 0) for i in range(n)] for k in range(n)] if s.ideal \
             else [list(s.B)]
     D = sp.Matrix(n, len(cols), lambda i, j: cols[j][i])
-    a = _accelerations(model.replace(constraints=others), D, w[0])
+    a, M = _accelerations(model.replace(constraints=others), D, w)
+    turn = _connection(model, M) if any(s.ideal for s in specs) else None
+    # the time derivative of each level: the next level, plus for an ideal force (a covector, its
+    # levels the covariant derivatives D^k R) the turn of the coordinate basis, Gamma q' D^k R
     chain = {q: v for q, v in zip(model.q, model.qd)}
-    for k in range(levels):
-        chain.update(zip(w[k], w[k + 1] if k + 1 < levels else wd))
+    turns = {}   # the generalized force on each auxiliary coordinate: the chain and the turn
+    for s in specs:
+        for k in range(levels):
+            z = [_velocity(x) for x in s.aux[k]]
+            extra = turn(z) if s.ideal else [sp.Integer(0)] * len(z)
+            if k + 1 < levels:   # d/dt D^k R = D^(k+1) R + Gamma q' D^k R
+                nxt = [_velocity(x) for x in s.aux[k + 1]]
+                chain.update({v: nv + e for v, nv, e in zip(z, nxt, extra)})
+                turns.update({x: nv + e for x, nv, e in zip(s.aux[k], nxt, extra)})
+            else:                # the last level's rate is its acceleration, the unknown
+                chain.update({v: sp.Symbol(str(v) + "'") for v in z})
+                turns.update({x: e for x, e in zip(s.aux[k], extra) if e != 0})
     sub = {}
     current = a
     for m in range(2, order + 1):
@@ -163,11 +180,9 @@ def _extend(model: Model) -> Extension:
             current = _rate(model, current, a, chain)
         sub.update(zip((sp.Symbol(s.name + "'" * (m - 2)) for s in model.qdd), current))
     top = [sp.Symbol(s.name + "'" * (order - 2)) for s in model.qdd]
-    forces = {c: f + sum((D[i, j] * w[0][j] for j in range(len(w[0]))), sp.Integer(0))
+    forces = {c: f + sum((D[i, j] * w[j] for j in range(len(w))), sp.Integer(0))
               for i, (c, f) in enumerate(zip(model.coordinates, model.forces))}
-    for s in specs:   # the chain: z_k'' = z_(k+1)'
-        for k in range(levels - 1):
-            forces.update({z: _velocity(nxt) for z, nxt in zip(s.aux[k], s.aux[k + 1])})
+    forces.update(turns)
     aux_all = [a for s in specs for level in s.aux for a in level]
     constraints, initial = list(others), dict(model.initial)
     for s, c in zip(specs, high):
@@ -200,7 +215,34 @@ def _accelerations(base: Model, D: sp.Matrix, w: list) -> list:
     for i in range(n):
         e = sol[i, 0] + sum((sol[i, 1 + j] * w[j] for j in range(len(w))), sp.Integer(0))
         out.append(sp.cancel(e) if sp.count_ops(e) < 2000 else e)
-    return out
+    return out, K[:n, :n]
+
+
+def _connection(model: Model, M: sp.Matrix):
+    """``P -> Gamma q' P``: the rate of a covector's components ``P`` (a generalized force) that
+    is not its covariant derivative along the motion in the metric of the mass matrix M(q),
+    ``(Gamma q' P)_s = Gamma^r_(s u) q'^u P_r`` with Levi-Civita's symbols of M.  Zero where M
+    does not depend on the coordinates (Cartesian coordinates of particles), so that there the
+    covariant derivatives are the plain ones.  A mass matrix that depends on time is refused: the
+    rate of its basis is then not in M."""
+    t = sp.Symbol("t")
+    if M.has(t):
+        raise ModelError("an ideal constraint of order three or more needs a mass matrix that does not "
+                         "depend on time explicitly (its force's derivatives are taken in the metric of "
+                         "M(q)); give the constraint a reaction = [...] direction, or use coordinates in "
+                         "which the kinetic energy does not contain t", _source(model))
+    q, qd = list(model.q), list(model.qd)
+    if not any(M.has(x) for x in q):
+        return lambda P: [sp.Integer(0)] * len(P)
+    n = len(q)
+    # Gamma_(l, s u) q'^u: Christoffel's symbols of the first kind contracted with the velocities
+    K = sp.Matrix(n, n, lambda l, s_: sum((sp.diff(M[l, u], q[s_]) + sp.diff(M[l, s_], q[u])
+                                            - sp.diff(M[s_, u], q[l])) * qd[u] for u in range(n)) / 2)
+
+    def turn(P):
+        v = M.LUsolve(sp.Matrix(P))          # the contravariant components M^-1 P
+        return [sp.cancel(sum((v[l] * K[l, s_] for l in range(n)), sp.Integer(0))) for s_ in range(n)]
+    return turn
 
 
 def _rate(model: Model, exprs: list, a: list, chain: dict) -> list:

@@ -42,10 +42,11 @@ def reduce(ext, traj: Trajectory, parameters=None) -> Trajectory:
     parameter values *parameters* overriding the model's, if given).
 
     ``multipliers[name]`` is ``lambda`` for a constraint realized along ``reaction`` (its
-    force is ``B lambda``) and ``Lambda`` for an ideal one of order n (``R^(n-2) = Lambda
+    force is ``B lambda``) and ``Lambda`` for an ideal one of order n (``D^(n-2) R = Lambda
     (d f/d q^(n))^T``); ``controls[name]`` holds the force (``force``: lambda, or ``|R|`` with
     the components ``u_1 .. u_n`` of R when ideal), its derivatives up to order ``n - 3``
-    (``force'``, ``force''``, ...; ideal: ``u_1'``, ...), its power ``R . q'``, its work and
+    (``force'``, ``force''``, ...; ideal: ``u_1'``, ..., the components of the covariant
+    derivatives ``D^k R`` in the metric of the mass matrix, the plain ones where M is constant), its power ``R . q'``, its work and
     ``order`` n.  The work is integrated with the motion where the model has no other active
     forces than the potential's (else Simpson's rule over the samples).  The energy is the model's: the auxiliary kinetic energy ``sum |z_k'|^2/2``
     and the equal works on the ``z_k`` (the chain's, in ``active_work``, and the constraint's,
