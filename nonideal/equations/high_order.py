@@ -156,7 +156,7 @@ def _extend(model: Model) -> Extension:
         cols += [[sp.Integer(1 if i == k else 0) for i in range(n)] for k in range(n)] if s.ideal \
             else [list(s.B)]
     D = sp.Matrix(n, len(cols), lambda i, j: cols[j][i])
-    a, M = _accelerations(model.replace(constraints=others), D, w)
+    a, M = _accelerations(model.replace(constraints=others, outputs={}), D, w)
     turn = _connection(model, M) if any(s.ideal for s in specs) else None
     # the time derivative of each level: the next level, plus for an ideal force (a covector, its
     # levels the covariant derivatives D^k R) the turn of the coordinate basis, Gamma q' D^k R
@@ -197,8 +197,8 @@ def _extend(model: Model) -> Extension:
     kinetic = model.kinetic + sum((_velocity(z) ** 2 for z in aux_all), sp.Integer(0)) / 2
     ext = Model(name=model.name, coordinates=tuple(model.coordinates) + tuple(aux_all),
                 parameters=model.parameters, kinetic=kinetic, potential=model.potential, forces=forces,
-                bodies=model.bodies, loads=model.loads, gravity=model.gravity,
-                constraints=tuple(constraints), initial=initial, t0=model.t0,
+                bodies=model.bodies, loads=model.loads, gravity=model.gravity, frames=model.frames,
+                points=model.points, constraints=tuple(constraints), initial=initial, t0=model.t0,
                 independent=model.independent, simulation=model.simulation, source=model.source,
                 description=model.description, units=model.units, controls=tuple(
                     replace(u, direction=tuple(u.direction) + (0,) * len(aux_all)) for u in model.controls))

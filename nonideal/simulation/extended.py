@@ -110,9 +110,33 @@ def reduce(ext, traj: Trajectory, parameters=None) -> Trajectory:
     diagnostics["third_order"] = {s.name: (f"ideal: R{_primes(s.order - 2)} = Lambda (d f/d q{_primes(s.order)})^T"
                                            if s.ideal else "along reaction: R = B lambda")
                                   for s in ext.constraints}
-    return replace(traj, coordinates=tuple(model.coordinates), q=traj.q[:, :n].copy(),
-                   qd=traj.qd[:, :n].copy(), qdd=traj.qdd[:, :n].copy(), multipliers=mult,
-                   energy=energy, controls=controls, diagnostics=diagnostics)
+    q, qd = traj.q[:, :n].copy(), traj.qd[:, :n].copy()
+    speeds, outputs = _speeds_and_outputs(model, parameters, traj.t, q, qd, mult)
+    return replace(traj, coordinates=tuple(model.coordinates), q=q, qd=qd, qdd=traj.qdd[:, :n].copy(),
+                   multipliers=mult, energy=energy, controls=controls, diagnostics=diagnostics,
+                   speeds=speeds, outputs=outputs)
+
+
+def _speeds_and_outputs(model, parameters, t, q, qd, mult):
+    """The model's own speeds and outputs at the samples: its ``T`` (without the auxiliary
+    energy) and its multipliers (lambda, not the extended program's lambda^(n-2))."""
+    speeds, outputs = {}, {}
+    if not (model.speeds or model.outputs):
+        return speeds, outputs
+    from ..numeric.speeds import output_kernel_of, speed_kernel_of
+
+    pv = parameter_vector(model, parameters)
+    N = len(t)
+    if model.speeds:
+        sk = speed_kernel_of(model)
+        values = np.array([sk.values(t[k], q[k], qd[k], pv) for k in range(N)]).reshape(N, len(sk.names))
+        speeds = {name: values[:, j].copy() for j, name in enumerate(sk.names)}
+    if model.outputs:
+        ok = output_kernel_of(model)
+        values = np.array([ok(t[k], q[k], qd[k], pv, {m: v[k] for m, v in mult.items()})
+                           for k in range(N)]).reshape(N, len(ok.names))
+        outputs = {name: values[:, j].copy() for j, name in enumerate(ok.names)}
+    return speeds, outputs
 
 
 def _primes(k: int) -> str:

@@ -218,3 +218,35 @@ def test_cli_missing_derivative_of_the_force_is_exit_2_naming_the_key(tmp_path, 
     assert list(data["q"]) == ["x"] and data["multipliers"]["snap"] == pytest.approx(lam([0, 0.5, 1]), abs=1e-10)
     assert data["controls"]["snap"]["order"] == 4
     assert data["controls"]["snap"]["force'"] == pytest.approx(lam.deriv()([0, 0.5, 1]), abs=1e-10)
+
+
+@pytest.mark.parametrize("expr, initial", [("x''' - s", 0.4), ("x'''' - s", (0.4, -0.3))])
+def test_outputs_and_speeds_are_the_models_own(expr, initial):
+    # T of the model (not of the extended one with its auxiliary energy), the multiplier lambda
+    # (not the extended program's lambda^(n-2)), and the speeds, at every sample
+    model = _point(Constraint.servo("p", expr, ["1", "1"], initial=initial),
+                   speeds={"u1": "x'", "u2": "x' + y'"}, outputs={"kin": "T", "lam": "lambda_p", "s": "u2"})
+    tr = simulate(model, times=TIMES)
+    assert np.max(np.abs(tr.outputs["kin"] - tr.energy["kinetic"])) < 1e-12
+    assert np.max(np.abs(tr.outputs["lam"] - tr.multipliers["p"])) < 1e-12
+    assert np.max(np.abs(tr.outputs["s"] - tr.qd[:, 0] - tr.qd[:, 1])) < 1e-12
+    assert np.max(np.abs(tr.speeds["u2"] - tr.qd[:, 0] - tr.qd[:, 1])) < 1e-12
+    assert tr.energy["kinetic"][0] == pytest.approx(M / 2 * (0.3 ** 2 + 1.0), rel=1e-14)
+
+
+def test_a_body_declared_by_its_frame_and_centre():
+    # a wheel spinning about z and sliding along x: th'''' = j (ideal, R'' along th) with the
+    # torque and the force and their rates given; C th'' = R_th, m x'' = R_x
+    from nonideal.modeling.bodies import RigidBody
+    from nonideal.modeling.frames import Frame
+    from nonideal.modeling.points import Point
+
+    model = Model(name="wheel", coordinates=["th", "x"], parameters={"m": 2.0, "C": 0.5, "j": 0.3},
+                  frames=[Frame("B", axis=[0, 0, 1], angle="th")], points=[Point("G", ["x", 0, 0])],
+                  bodies=[RigidBody("w", "m", [["C", 0, 0], [0, "C", 0], [0, 0, "C"]], frame="B", center="G")],
+                  constraints=[Constraint("p", "th'''' - j", initial=((0.1, 0.2), (0.0, 0.1)))],
+                  initial={"th": 0, "x": 0, "th'": 1.0, "x'": 0.5})
+    t = np.linspace(0.0, 1.0, 5)
+    tr = simulate(model, times=t)
+    assert np.max(np.abs(tr.q[:, 0] - (t + 0.1 / 0.5 * t ** 2 / 2 + 0.3 * t ** 4 / 24))) < 1e-12
+    assert np.max(np.abs(tr.q[:, 1] - (0.5 * t + 0.2 / 2 * t ** 2 / 2 + 0.1 / 2 * t ** 3 / 6))) < 1e-12
