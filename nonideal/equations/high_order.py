@@ -11,7 +11,7 @@ state of the motion is ``(q, q', R, R', ..., R^(n-3))``).  Two ways of realizing
   Béghin's sense): ``R = B lambda`` with one scalar ``lambda`` -- the constraint may then be
   nonlinear in ``q^(n)`` (quadratic along B: a root rule chooses the branch);
 * **ideal** (no ``reaction``; linear in ``q^(n)``): the generalized Gauss principle of order n
-  (Yushkov 1999, ch. IV, sec. 5; appendix D).  The equations of motion ``M W = Y + R`` of the
+  (Yushkov 1999, ch. IV, secs. 3 and 5; appendix D).  The equations of motion ``M W = Y + R`` of the
   representing point, differentiated ``n - 2`` times as vectors, give ``M W^(n-2) = Y^(n-2) +
   R^(n-2)``; among the n-th derivatives the constraint allows, the actual one minimizes the
   compulsion ``M |W^(n-2) - Y^(n-2)/M|^2 / 2``, so ``R^(n-2) = Lambda grad f``: in generalized
