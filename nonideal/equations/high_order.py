@@ -161,7 +161,7 @@ def _extend(model: Model) -> Extension:
     # the time derivative of each level: the next level, plus for an ideal force (a covector, its
     # levels the covariant derivatives D^k R) the turn of the coordinate basis, Gamma q' D^k R
     chain = {q: v for q, v in zip(model.q, model.qd)}
-    turns = {}   # the generalized force on each auxiliary coordinate: the chain and the turn
+    aux_forces = {}   # the generalized force on each auxiliary coordinate: the chain and the turn
     for s in specs:
         for k in range(levels):
             z = [_velocity(x) for x in s.aux[k]]
@@ -169,10 +169,10 @@ def _extend(model: Model) -> Extension:
             if k + 1 < levels:   # d/dt D^k R = D^(k+1) R + Gamma q' D^k R
                 nxt = [_velocity(x) for x in s.aux[k + 1]]
                 chain.update({v: nv + e for v, nv, e in zip(z, nxt, extra)})
-                turns.update({x: nv + e for x, nv, e in zip(s.aux[k], nxt, extra)})
+                aux_forces.update({x: nv + e for x, nv, e in zip(s.aux[k], nxt, extra)})
             else:                # the last level's rate is its acceleration, the unknown
                 chain.update({v: sp.Symbol(str(v) + "'") for v in z})
-                turns.update({x: e for x, e in zip(s.aux[k], extra) if e != 0})
+                aux_forces.update({x: e for x, e in zip(s.aux[k], extra) if e != 0})
     sub = {}
     current = a
     for m in range(2, order + 1):
@@ -182,8 +182,8 @@ def _extend(model: Model) -> Extension:
     top = [sp.Symbol(s.name + "'" * (order - 2)) for s in model.qdd]
     forces = {c: f + sum((D[i, j] * w[j] for j in range(len(w))), sp.Integer(0))
               for i, (c, f) in enumerate(zip(model.coordinates, model.forces))}
-    forces.update(turns)
-    aux_all = [a for s in specs for level in s.aux for a in level]
+    forces.update(aux_forces)
+    aux_all = [x for s in specs for level in s.aux for x in level]
     constraints, initial = list(others), dict(model.initial)
     for s, c in zip(specs, high):
         f_ext = sp.sympify(c.expr).xreplace(sub)

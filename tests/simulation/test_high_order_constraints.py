@@ -250,3 +250,15 @@ def test_a_body_declared_by_its_frame_and_centre():
     tr = simulate(model, times=t)
     assert np.max(np.abs(tr.q[:, 0] - (t + 0.1 / 0.5 * t ** 2 / 2 + 0.3 * t ** 4 / 24))) < 1e-12
     assert np.max(np.abs(tr.q[:, 1] - (0.5 * t + 0.2 / 2 * t ** 2 / 2 + 0.1 / 2 * t ** 3 / 6))) < 1e-12
+
+
+def test_ideal_with_a_time_dependent_mass_matrix_is_refused_with_the_fix():
+    # the covariant derivatives of the ideal force need M(q); with M(t) the basis' rate is not in
+    # M -- refused, naming the way out (a reaction direction), which then runs
+    kw = dict(name="p", coordinates=["x"], parameters={"s": 0.5}, kinetic="(2 + sin(t))/2*x'^2",
+              initial={"x": 0, "x'": 0}, simulation={"t_end": 0.5})
+    with pytest.raises(ModelError, match="mass matrix that does not depend on time.*reaction"):
+        simulate(Model(constraints=[Constraint("p", "x'''' - s", initial=((1.0,), (0.0,)))], **kw))
+    tr = simulate(Model(constraints=[Constraint.servo("p", "x'''' - s", ["1"], initial=(1.0, 0.0))], **kw),
+                  times=[0.0, 0.5])
+    assert tr.controls["p"]["order"] == 4 and tr.diagnostics["energy_balance_relative"] < 1e-8
