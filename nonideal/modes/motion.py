@@ -68,6 +68,19 @@ class Motion:
         motion._sol = sol
         return motion
 
+    @classmethod
+    def in_phase(cls, solver, mode: Mode, system, t: float, y: np.ndarray, sol: np.ndarray) -> "Motion":
+        """:meth:`solved` for the many samples of one native phase: *system* is the mode's
+        (``system_of(solver.kernel, mode)``, looked up once for the phase), and no solve of
+        the solver is looked for (the states are the native loop's, never the solver's)."""
+        motion = cls.__new__(cls)
+        motion.solver, motion.mode, motion.system = solver, mode, system
+        motion.t, motion.y, motion.n = t, y, system.n
+        motion._lu = motion._piv = motion._solution = None
+        motion._values = motion._obs = motion._dyn = motion._kin = None
+        motion._sol = sol
+        return motion
+
     @property
     def q(self) -> np.ndarray:
         return self.y[:self.n]
@@ -174,7 +187,14 @@ class Motion:
     def constraint_acc(self, row: int) -> float:
         """``f'' = G q'' + gamma`` of kernel row *row* (a released unilateral constraint)."""
         n = self.n
-        return float(self._dynamics("G")[row * n:(row + 1) * n] @ self.qdd + self._dynamics("gamma")[row])
+        kernel = self.solver.kernel
+        if kernel.compact:
+            pattern = kernel.patterns["G"]
+            lo, hi = pattern.indptr[row], pattern.indptr[row + 1]
+            g = self._dynamics("G")[lo:hi] @ self.qdd[pattern.cols[lo:hi]]
+        else:
+            g = self._dynamics("G")[row * n:(row + 1) * n] @ self.qdd
+        return float(g + self._dynamics("gamma")[row])
 
     # ------------------------------------------------------------------ kinematics
     @property
