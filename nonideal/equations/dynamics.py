@@ -481,8 +481,9 @@ class Dynamics:
         return ConstraintRow(name, tuple(G), gamma, tuple(B), position, vel, order, False, "servo")
 
     def _row(self, c: Constraint) -> ConstraintRow:
-        if c.order == 3:
-            raise ModelError(f"constraint '{c.name}' is of third order: the force that realizes it is part of "
+        if c.order >= 3:
+            what = "third order" if c.order == 3 else f"order {c.order}"
+            raise ModelError(f"constraint '{c.name}' is of {what}: the force that realizes it is part of "
                              "the state, and this analysis works with states (q, q') only; simulate, check, "
                              "evaluate and derive handle it", _source(self.model))
         expr = to_se(c.expr)

@@ -293,8 +293,8 @@ class Model:
             out.update({s.name: s for s in qd})
         if order >= 2:
             out.update({s.name: s for s in qdd})
-        if order >= 3:  # third derivatives: a constraint's expr only
-            out.update({s.name + "'": sp.Symbol(s.name + "'") for s in qdd})
+        for k in range(1, order - 1):  # third and higher derivatives: a constraint's expr only
+            out.update({s.name + "'" * k: sp.Symbol(s.name + "'" * k) for s in qdd})
         if time:
             out["t"] = t
         if order >= 1 and self.__dict__.get("_speeds_ready"):

@@ -21,7 +21,7 @@ from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES,
 from .normalize_kinematics import (norm_constraints, normalize_kinematics, normalize_quaternion_initial,
                                    resolve_body)
 from .members import MemberExpansion
-from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
+from .high_order import MAX_ORDER, cost_problem, high_order_problem, initial_forces, normalize_controls
 from .speeds import finish_speeds_and_outputs, normalize_speeds
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
 
@@ -327,7 +327,7 @@ class Normalizer:
                     "use holonomic, nonholonomic or servo"
                 )
                 continue
-            expr = self.smooth(self.expr(c.expr, f"{where}: expr", 3), f"{where}: expr")
+            expr = self.smooth(self.expr(c.expr, f"{where}: expr", MAX_ORDER), f"{where}: expr")
             if expr is None:
                 continue
             order = derivative_order(expr, m.coordinates)
@@ -351,8 +351,8 @@ class Normalizer:
                 )
                 continue
             nonlinear = False
-            if order == 3:
-                bad, nonlinear = third_order_problem(m, c, expr, where)
+            if order >= 3:
+                bad, nonlinear = high_order_problem(m, c, expr, where, order)
                 if bad:
                     self.problems.append(bad)
                     continue
@@ -462,9 +462,8 @@ class Normalizer:
         names = {n: sp.Symbol(n) for n in m.parameters}
         values = parameter_values(m.parameters)
         out, given = {}, dict(m.initial)
-        self.set("constraints", tuple(replace(c, initial=initial_multiplier(
-            m, c, given.pop(f"lambda_{c.name}", None), names, self.problems)) if c.order == 3 else c
-            for c in m.constraints))
+        self.set("constraints", tuple(replace(c, initial=initial_forces(
+            m, c, given, names, self.problems)) if c.order >= 3 else c for c in m.constraints))
         for key, value in given.items():
             where = f"[initial] {key}"
             if key not in allowed:
