@@ -54,7 +54,7 @@ from scipy.optimize import linprog, nnls
 from .types import STICK
 
 __all__ = ["Distribution", "best_distribution", "maxmin", "least_norm_distribution", "row_weights",
-           "admissible_ranges", "split_report", "split_phases", "RULE_TEXT"]
+           "admissible_ranges", "split_report", "split_phases", "RULE_TEXT", "minimum_norm"]
 
 #: how each rule of ``[simulation] split`` is described in the outputs
 RULE_TEXT = {
@@ -533,3 +533,28 @@ def split_phases(solver, motions) -> dict:
         out.append(entry)
     rule = solver.split[0]
     return {"rule": RULE_TEXT[rule], "split": rule, "phases": out}
+
+
+def minimum_norm(M, F, B, G, gamma):
+    """Redundant contacts (a body resting on more supports than it needs, both ends of a flat
+    rod sticking): the accelerations are unique but the contact forces are statically
+    indeterminate.  The accelerations and the minimum-norm forces, if the system is consistent
+    (:func:`best_distribution` then finds the forces reported)."""
+    n, m = M.shape[0], G.shape[0]
+    K = np.zeros((n + m, n + m))
+    K[:n, :n] = M
+    K[:n, n:] = -B
+    K[n:, :n] = G
+    rhs = np.concatenate((F, -gamma))
+    x, *_ = np.linalg.lstsq(K, rhs, rcond=1e-12)
+    scale = 1.0 + float(np.max(np.abs(rhs)))
+    if np.max(np.abs(K @ x - rhs)) > 1e-9 * scale:
+        return None
+    # the accelerations must be unique: M must be definite on the null space of G
+    rank = np.linalg.matrix_rank(G)
+    if rank < n:
+        _, _, Vt = np.linalg.svd(G)
+        null = Vt[rank:].T
+        if np.linalg.matrix_rank(null.T @ M @ null) < null.shape[1]:
+            return None
+    return x[:n], x[n:]

@@ -31,6 +31,7 @@ from ..errors import FormNotApplicable
 from ..equations.formalisms import derive
 from ..numeric.kernel import FormSystem, Kernel, SingularMatrix, max_abs, solve_saddle
 from .diagnosis import DENSE_DIAGNOSIS_MAX, diagnose_singular
+from .indeterminate import minimum_norm
 from .partition import better_partition
 from .routes import route_for
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, ContactForce, ContactState, Mode, RowSpec, Solution
@@ -153,10 +154,8 @@ class ModeSolver:
         """The vector ``s`` with friction ``F = -sigma mu N s`` (unit slip direction for
         Coulomb sliding; the regularized shape for the smooth laws, zero for a frictionless
         contact).  *qd*: the velocities of the state (default: those of the last
-        :meth:`input`), which scale the test ``|U| ~ 0``.  *continued* False: the direction of
-        the slip itself, not its continuation through a stop within the current step (the
-        orientation kept from the step's start belongs to the step being taken, not to a
-        sample reported afterwards)."""
+        :meth:`input`), which scale the test ``|U| ~ 0``.  *continued* False: the slip's own
+        direction, not its continuation through a stop within the step (for reported samples)."""
         law = self.laws[c]
         if cs.state == SMOOTH:
             nrm = float(np.sqrt(U @ U))
@@ -377,7 +376,7 @@ class ModeSolver:
             Gm, gm, Bm = self.assemble(mode, layout, out, cout) if layout else (
                 np.zeros((0, self.n)), np.zeros(0), np.zeros((self.n, 0)))
             if self.route.saddle_point and any(r.kind != "constraint" for r in layout):
-                sol = _minimum_norm(M, F, Bm, Gm, gm)
+                sol = minimum_norm(M, F, Bm, Gm, gm)
                 if sol is not None:
                     return sol[0], sol[1], layout, out, cout
             raise diagnose_singular(self, M, Gm, Bm, layout, t, q, qd) from None
@@ -405,7 +404,7 @@ class ModeSolver:
             Gm, gm, Bm = self.assemble(mode, layout, out, cout) if layout else (
                 np.zeros((0, n)), np.zeros(0), np.zeros((n, 0)))
             if any(r.kind != "constraint" for r in layout):
-                found = _minimum_norm(M, F, Bm, Gm, gm)
+                found = minimum_norm(M, F, Bm, Gm, gm)
                 if found is not None:
                     return found[0], found[1], layout, out, cout
             raise diagnose_singular(self, M, Gm, Bm, layout, t, q, qd) from None
@@ -566,31 +565,6 @@ class ModeSolver:
                                           float(cout["gap_rate"][c]), gacc, float(cout["mu"][c]),
                                           float(cout["mu_s"][c]))
         return contacts, friction
-
-
-def _minimum_norm(M, F, B, G, gamma):
-    """Redundant contacts (a body resting on more supports than it needs, both ends of a flat
-    rod sticking): the accelerations are unique but the contact forces are statically
-    indeterminate.  The accelerations and the minimum-norm forces, if the system is consistent
-    (:func:`~nonideal.modes.indeterminate.best_distribution` then finds the forces reported)."""
-    n, m = M.shape[0], G.shape[0]
-    K = np.zeros((n + m, n + m))
-    K[:n, :n] = M
-    K[:n, n:] = -B
-    K[n:, :n] = G
-    rhs = np.concatenate((F, -gamma))
-    x, *_ = np.linalg.lstsq(K, rhs, rcond=1e-12)
-    scale = 1.0 + float(np.max(np.abs(rhs)))
-    if np.max(np.abs(K @ x - rhs)) > 1e-9 * scale:
-        return None
-    # the accelerations must be unique: M must be definite on the null space of G
-    rank = np.linalg.matrix_rank(G)
-    if rank < n:
-        _, _, Vt = np.linalg.svd(G)
-        null = Vt[rank:].T
-        if np.linalg.matrix_rank(null.T @ M @ null) < null.shape[1]:
-            return None
-    return x[:n], x[n:]
 
 
 def recover_multipliers(M: np.ndarray, F: np.ndarray, B: np.ndarray, qdd: np.ndarray) -> np.ndarray:
