@@ -18,8 +18,7 @@ from .symbols import is_identifier
 
 from .quantities import base_units, with_units
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
-from .normalize_kinematics import (norm_constraints, normalize_kinematics, normalize_quaternion_initial,
-                                   resolve_body)
+from .normalize_kinematics import normalize_kinematics, normalize_quaternion_initial, resolve_body
 from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
 from .speeds import finish_speeds_and_outputs, normalize_speeds
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
@@ -297,7 +296,7 @@ class Normalizer:
     def constraints(self) -> None:
         m = self.m
         out, names = [], set()
-        for c in norm_constraints(self.kinematics, m.constraints, self.problems):
+        for c in m.constraints:
             where = f"constraint '{c.name}'"
             if not isinstance(c.name, str) or not is_identifier(c.name):
                 self.problems.append(f"{where}: name must be an identifier (letters, digits, _)")

@@ -220,7 +220,8 @@ def _warm(module, kernel) -> None:
     w = np.zeros(nx + nz + n * n + n)
     # module.rhs, the wrapper for calls from Python, is compiled on its first call
     ix = np.concatenate((np.array([n, 0, -1, 0, 0, nx, nz], dtype=np.int64), np.zeros(n, dtype=np.int64)))
-    integrator.evaluate(module.kernel, np.zeros(nx), np.zeros(nz))
+    # at a generic point, not at zero: a kernel may divide by a norm (Euler parameters' |e|^2)
+    integrator.evaluate(module.kernel, np.full(nx, 0.5), np.zeros(nz))
     integrator.phase(module.kernel, 0.0, y, np.zeros(2 * n), 1.0, 0.0, 1e-3, np.ones(2 * n), np.inf,
                      w, ix, np.zeros(0), 0, 0, 0.0)
 

@@ -32,7 +32,7 @@ import symengine as se
 from ..dynamics import count_ops
 from ..eom import EquationsOfMotion
 from .base import Formalism, project_rows, split_rows
-from .quasi import Reduced, assemble, fold_trig, quasi_lagrangian, speed_basis
+from .quasi import Reduced, assemble, fold_trig, norm_reducer, quasi_lagrangian, speed_basis
 
 __all__ = ["BoltzmannHamel", "hamel_coefficients"]
 
@@ -43,6 +43,7 @@ def hamel_coefficients(dyn, ql):
     n, kk = dyn.n, ql.basis.k
     W, w, Phi, phi0 = ql.basis.W, ql.basis.w, ql.Phi, ql.phi0
     out = {}
+    reduce = norm_reducer(dyn.model) or (lambda x: x)
     for k in range(n):
         # curl[j][i] = dW_kj/dq_i - dW_ki/dq_j
         curl = [[se.diff(W[k, j], dyn.q[i]) - se.diff(W[k, i], dyn.q[j]) for i in range(n)] for j in range(n)]
@@ -62,7 +63,7 @@ def hamel_coefficients(dyn, ql):
                         if curl[j][i] != 0 and vec[i, col] != 0:
                             acc += curl[j][i] * Phi[j, r] * vec[i, col]
                 if acc != 0:
-                    acc = fold_trig(acc)
+                    acc = fold_trig(reduce(acc))
                     if acc != 0:
                         out[(k, r, s)] = acc
     return out
@@ -93,7 +94,7 @@ class BoltzmannHamel(Formalism):
         A, c = assemble(dyn, ql, lhs)
         G, gam, B = project_rows(kept, Reduced(ql.R, ql.r), n)
         extras = {}
-        labels = list(basis.names) + [f"sigma[{r_.name}]" for r_ in ideal]
+        labels = list(basis.names) + [f"sigma[{r_.name}]" for r_ in basis.rows]
         shown = {f"gamma^{labels[kk]}_{basis.names[r]},{basis.names[s] if s is not None else 0}": g
                  for (kk, r, s), g in gamma.items()}
         if shown and count_ops(list(shown.values())) <= 300:

@@ -44,7 +44,7 @@ class Kane(Formalism):
         ideal, kept = split_rows(rows)
         basis = speed_basis(dyn, ideal, independent, self.name)
         n, k = dyn.n, basis.k
-        b = [dyn.dt(d, with_acceleration=False) for d in basis.definitions] + [r.gamma for r in ideal]
+        b = [dyn.dt(d, with_acceleration=False) for d in basis.definitions] + [r.gamma for r in basis.rows]
         cols = [[se.Integer(1 if i == c else 0) for i in range(n)] for c in range(k)]
         cols.append([-basis.w[i, 0] for i in range(n)])
         cols.append([-x for x in b])

@@ -35,7 +35,7 @@ import symengine as se
 from ..dynamics import count_ops
 from ..eom import EquationsOfMotion
 from .base import Formalism, project_rows, split_rows
-from .quasi import Reduced, assemble, fold_trig, quasi_lagrangian, speed_basis
+from .quasi import Reduced, assemble, fold_trig, norm_reducer, quasi_lagrangian, speed_basis
 
 __all__ = ["PoincareChetaev", "structure_coefficients"]
 
@@ -65,6 +65,7 @@ def structure_coefficients(dyn, ql, on_motion: bool = True):
         return out
 
     out = {}
+    reduce = norm_reducer(dyn.model) or (lambda x: x)
     for b in range(kk):
         for a in list(range(kk)) + [None]:
             if a == b:
@@ -75,7 +76,7 @@ def structure_coefficients(dyn, ql, on_motion: bool = True):
             for k in range(n):
                 c = sum((W[k, m] * br[m] for m in range(n) if W[k, m] != 0 and br[m] != 0), se.Integer(0))
                 if c != 0:
-                    c = fold_trig(c)
+                    c = fold_trig(reduce(c))
                     if c != 0:
                         out[(k, a, b)] = c
     return out
@@ -105,7 +106,7 @@ class PoincareChetaev(Formalism):
             lhs.append(e.subs(ql.on_motion))
         A, c = assemble(dyn, ql, lhs)
         G, gam, B = project_rows(kept, Reduced(ql.R, ql.r), n)
-        labels = list(basis.names) + [f"sigma[{r_.name}]" for r_ in ideal]
+        labels = list(basis.names) + [f"sigma[{r_.name}]" for r_ in basis.rows]
         shown = {}
         for (kk, a, b), val in coeff.items():
             if a is None or a < b:

@@ -17,6 +17,13 @@ and on the motion (``sigma = 0``) ``q' = Phi_p p + phi0``, ``q'' = Phi_p p' + r`
 (ch. 3, the coefficients of the speeds in the velocities).  The results are written in the
 speeds: ``q'`` is replaced by ``Phi_p p + phi0`` and the speeds are auxiliary symbols
 evaluated from the state (``p = W_p q' + w_p``).
+
+Euler parameters: the frame turns by the rotation of ``e/|e|`` (:mod:`nonideal.modeling.kinematics`),
+so declared speeds (three angular ones) are blind to the radial rate ``e . e'``.  When the
+declared speeds leave it undetermined, the radial rate of each such frame is taken as one more
+combination ``sigma`` (:func:`radial_rows`: ``e . e' = 0`` with ``(e . e')' = 0``, the equation
+the regularized kinetic energy gives the other forms): its reaction has no part along the
+partial velocities, and ``q'' = Phi_p p' + r`` keeps ``|e|`` constant.
 """
 
 from __future__ import annotations
@@ -31,7 +38,7 @@ from ..eom import Auxiliary
 from ...errors import FormNotApplicable, SingularSystem
 from .base import numeric_instances, partition, symbolic_solve
 
-__all__ = ["SpeedBasis", "speed_basis", "velocity_rows", "Reduced"]
+__all__ = ["SpeedBasis", "speed_basis", "velocity_rows", "Reduced", "radial_rows"]
 
 
 @dataclass(frozen=True)
@@ -86,6 +93,9 @@ class SpeedBasis:
         Whether the model declares ``[speeds]``.
     dropped : tuple of str
         Declared speeds not kept (fixed by the constraints and the kept ones).
+    rows : tuple of ConstraintRow
+        The rows of ``G`` (the ideal constraints, then the radial rows of Euler parameters the
+        declared speeds leave undetermined); their ``gamma`` enter ``r``.
     """
 
     names: tuple[str, ...]
@@ -96,6 +106,7 @@ class SpeedBasis:
     w: object
     declared: bool
     dropped: tuple[str, ...]
+    rows: tuple = ()
 
     @property
     def k(self) -> int:
@@ -119,6 +130,11 @@ class SpeedBasis:
                           "speeds " + ", ".join(f"{n} = {d}" for n, d in zip(self.names, self.definitions))
                           + " (evaluated from the state)"),)
 
+    @property
+    def radial(self) -> tuple:
+        """The radial rows of Euler parameters among :attr:`rows` (see :func:`radial_rows`)."""
+        return tuple(r for r in self.rows if r.reaction_kind == RADIAL)
+
     def note(self) -> str:
         if not self.declared:
             return ("no [speeds] declared: the speeds are the independent velocities "
@@ -126,13 +142,45 @@ class SpeedBasis:
         out = "speeds " + ", ".join(self.names)
         if self.dropped:
             out += " (" + ", ".join(self.dropped) + " fixed by the constraints)"
+        for r in self.radial:
+            out += f"; the radial rate of frame {r.name[:-len('_norm')]}'s Euler parameters held at zero"
         return out
+
+
+RADIAL = "radial"   # the reaction kind of the radial rows of Euler parameters
+
+
+def radial_rows(dyn) -> list:
+    """``e . e' = 0`` at velocity level, ``e . e'' + e' . e' = 0`` at acceleration level, for
+    every frame given by Euler parameters: rows named ``<frame>_norm`` (not constraints of the
+    model: the radial rate the declared speeds do not determine, held at zero)."""
+    from ..dynamics import ConstraintRow
+
+    out = []
+    index = {s: j for j, s in enumerate(dyn.q)}
+    for f in getattr(dyn.model, "frames", ()) or ():
+        if not getattr(f, "quaternion", None):
+            continue
+        e = [se.Symbol(str(c)) for c in f.quaternion]
+        if not all(x in index for x in e):
+            continue
+        G = [se.Integer(0)] * dyn.n
+        for x in e:
+            G[index[x]] = x
+        ed = [dyn.qd[index[x]] for x in e]
+        out.append(ConstraintRow(f"{f.name}_norm", tuple(G), sum((v * v for v in ed), se.Integer(0)), tuple(G),
+                                 sum((x * x for x in e), se.Integer(0)) / 2,
+                                 sum((x * v for x, v in zip(e, ed)), se.Integer(0)), 0, False, RADIAL))
+    return out
 
 
 def speed_basis(dyn, rows, independent, form: str) -> SpeedBasis:
     """Choose the independent speeds for the ideal *rows* (see the module docstring)."""
     model = dyn.model
     n = dyn.n
+    rows = list(rows)
+    if model.speeds:   # the radial rates of Euler parameters the declared speeds leave free
+        rows += _undetermined(dyn, rows, radial_rows(dyn))
     G, g = velocity_rows(dyn, rows, form)
     m = len(G)
     zero = {v: se.Integer(0) for v in dyn.qd}
@@ -180,7 +228,32 @@ def speed_basis(dyn, rows, independent, form: str) -> SpeedBasis:
     symbols = [se.Symbol(nm) for nm in names] if declared else [dyn.qd[model.coordinates.index(nm[:-1])] for nm in names]
     sigma = [se.Symbol(f"sigma[{r.name}]") for r in rows]
     return SpeedBasis(names, symbols, defs, sigma, W, w, declared,
-                      tuple(cand[c][0] for c in range(len(cand)) if c not in sel) if declared else ())
+                      tuple(cand[c][0] for c in range(len(cand)) if c not in sel) if declared else (),
+                      tuple(rows))
+
+
+def _undetermined(dyn, rows, radial) -> list:
+    """The radial rows not determined by the declared speeds and the ideal *rows* (judged at
+    generic states; the speeds are blind to the radial rates when they are written through the
+    frames, so each radial row is then needed)."""
+    if not radial:
+        return []
+    from ...modeling.symbols import to_se
+
+    exprs = [to_se(e) for e in dyn.model.speeds.values()]
+    base = [[se.diff(e, v) for v in dyn.qd] for e in exprs] + [list(r.G) for r in rows]
+    extra = [list(r.G) for r in radial]
+    flat = [x for row in base + extra for x in row]
+    inst = [x.reshape(len(base) + len(extra), dyn.n) for x in numeric_instances(dyn, flat, count=2)]
+    inst = [x for x in inst if np.all(np.isfinite(x))] or inst
+    out = []
+    for k, r in enumerate(radial):
+        sel = list(range(len(base))) + [len(base) + j for j in range(k)]
+        with_r = sel + [len(base) + k]
+        if all(np.linalg.matrix_rank(x[with_r], tol=1e-9 * (1 + np.abs(x).max()))
+               > np.linalg.matrix_rank(x[sel], tol=1e-9 * (1 + np.abs(x).max())) for x in inst):
+            out.append(r)
+    return out
 
 
 def invert(basis: SpeedBasis, dyn, form: str, columns: list | None = None, factor: int = 4,
@@ -273,20 +346,28 @@ def fold_trig(expr):
 
 def norm_reducer(model):
     """A function reducing a polynomial in Euler parameters modulo their unit norm
-    (``e0^k -> e0^(k mod 2) (1 - e1^2 - e2^2 - e3^2)^(k // 2)``, expanded: a canonical form on
-    the constraint manifold, where the equations hold), or None when the model has no frame
+    (``|e|^2 -> 1`` where it divides, ``e0^k -> e0^(k mod 2) (1 - e1^2 - e2^2 - e3^2)^(k // 2)``,
+    expanded: a canonical form on the unit sphere, which the motion keeps and where the
+    equations are read), or None when the model has no frame
     given by Euler parameters.  The rates of unit Euler parameters then read ``2 G(e) e'``."""
     quads = [tuple(se.Symbol(str(c)) for c in f.quaternion) for f in getattr(model, "frames", ()) or ()
              if getattr(f, "quaternion", None)]
     if not quads:
         return None
     heads = {q[0]: q[1:] for q in quads}
+    unit = {}
+    for q in quads:   # |e|^2 (the rotation of e/|e| divides by it) and its powers, expanded or not
+        n2 = sum((x * x for x in q), se.Integer(0))
+        unit.update({n2: se.Integer(1), se.expand(n2**2): se.Integer(1), se.expand(n2**3): se.Integer(1)})
 
     def reduce(expr):
         expr = se.sympify(expr)
-        if not (expr.free_symbols & set(heads)) or count_ops([expr]) > 20000:
+        if not (expr.free_symbols & set(heads)):
             return expr
-        e = se.expand(expr)
+        expr = expr.subs(unit)
+        if count_ops([expr]) > 20000:
+            return expr
+        e = se.expand(expr).subs(unit)
         terms = e.args if isinstance(e, se.Add) else (e,)
         out = []
         for t in terms:
@@ -400,7 +481,7 @@ def quasi_lagrangian(dyn, basis: SpeedBasis, ideal, form: str) -> QuasiLagrangia
     for r_ in range(k):
         Pi[r_, 0] = sum((Phi[j, r_] * se.sympify(dyn.Q[j]) for j in range(n) if Phi[j, r_] != 0 and dyn.Q[j] != 0),
                         se.Integer(0)).subs(on_motion)
-    b = [dyn.dt(d, with_acceleration=False) for d in basis.definitions] + [r_.gamma for r_ in ideal]
+    b = [dyn.dt(d, with_acceleration=False) for d in basis.definitions] + [r_.gamma for r_ in basis.rows]
     R = se.Matrix([[Phi[i, c] for c in range(k)] for i in range(n)])
     r = se.Matrix([[-sum((Phi[i, c] * b[c] for c in range(n) if Phi[i, c] != 0 and b[c] != 0), se.Integer(0))]
                    for i in range(n)]).subs(on_motion)
