@@ -18,7 +18,7 @@ def model():
     return gallery.load("heavy-symmetric-top-speeds")
 
 
-@pytest.mark.parametrize("form", ["kane", "boltzmann_hamel", "poincare_chetaev"])
+@pytest.mark.parametrize("form", ["kane", "boltzmann_hamel", "poincare_chetaev", "appell"])
 def test_eulers_equations_in_euler_parameters(model, form):
     eom = derive(model, form)
     assert eom.unknowns == ("w1'", "w2'", "w3'")

@@ -38,7 +38,8 @@ from ..eom import Auxiliary
 from ...errors import FormNotApplicable, SingularSystem
 from .base import numeric_instances, partition, symbolic_solve
 
-__all__ = ["SpeedBasis", "speed_basis", "velocity_rows", "Reduced", "radial_rows"]
+__all__ = ["SpeedBasis", "speed_basis", "velocity_rows", "Reduced", "radial_rows", "PartialVelocities",
+           "partial_velocities"]
 
 
 @dataclass(frozen=True)
@@ -289,6 +290,55 @@ def invert(basis: SpeedBasis, dyn, form: str, columns: list | None = None, facto
 
 
 ADJUGATE_MAX = 6
+
+
+@dataclass(frozen=True)
+class PartialVelocities:
+    """``q' = Phi p + phi0`` and ``q'' = Phi p' + r`` on the constraints (:func:`partial_velocities`).
+
+    Attributes
+    ----------
+    basis : SpeedBasis
+    Phi, r : se.DenseMatrix
+        n x k and n x 1: written explicitly, or auxiliary symbols ``Phi[q,p]``, ``r[q]``.
+    subs : dict
+        ``q' -> Phi p + phi0`` (the velocities in the speeds) when explicit, else empty.
+    auxiliaries : tuple of Auxiliary
+        The linear system of ``Phi`` and ``r`` when they are not explicit.
+    """
+
+    basis: SpeedBasis
+    Phi: object
+    r: object
+    subs: dict
+    auxiliaries: tuple
+
+
+def partial_velocities(dyn, ideal, independent, form: str) -> PartialVelocities:
+    """The speeds of *form* for the ideal rows, their partial velocities ``Phi`` (Kane &
+    Levinson 1985, sec. 4.4) and the acceleration terms ``r``: solved symbolically when small
+    (:func:`invert`), else as auxiliary symbols solved numerically at each evaluation."""
+    basis = speed_basis(dyn, ideal, independent, form)
+    n, k = dyn.n, basis.k
+    b = [dyn.dt(d, with_acceleration=False) for d in basis.definitions] + [r.gamma for r in basis.rows]
+    cols = [[se.Integer(1 if i == c else 0) for i in range(n)] for c in range(k)]
+    cols.append([-basis.w[i, 0] for i in range(n)])
+    cols.append([-x for x in b])
+    X = invert(basis, dyn, form, cols)
+    coords = dyn.model.coordinates
+    if X is None:   # too large to write: partial velocities solved numerically
+        syms = [[se.Symbol(f"Phi[{coords[i]},{basis.names[c]}]") for c in range(k)]
+                + [se.Symbol(f"r[{coords[i]}]")] for i in range(n)]
+        Y = se.Matrix([[cols[c][i] for c in range(k)] + [cols[k + 1][i]] for i in range(n)])
+        aux = (Auxiliary(se.Matrix(syms), basis.W, Y,
+                         "partial velocities Phi[q,p] and r[q] solve W [Phi | r] = [E_p | -(W' q' + w')]"),)
+        return PartialVelocities(basis, se.Matrix([row[:k] for row in syms]),
+                                 se.Matrix([[row[k]] for row in syms]), {}, aux)
+    Phi = se.Matrix([[X[i][c] for c in range(k)] for i in range(n)])
+    r = se.Matrix([[X[i][k + 1]] for i in range(n)])
+    subs = {dyn.qd[i]: sum((X[i][c] * basis.symbols[c] for c in range(k)), se.Integer(0)) + X[i][k]
+            for i in range(n)}
+    return PartialVelocities(basis, Phi, r, subs, ())
 
 
 def to_speeds(expr, subs: dict):
