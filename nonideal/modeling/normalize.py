@@ -475,11 +475,16 @@ class Normalizer:
         self.problems += problems
         if m.independent is not None:
             ind = tuple(m.independent)
+            speeds = list(m.speeds or ())
             for name in ind:
-                if name not in m.coordinates:
+                if name not in m.coordinates and name not in speeds:
+                    what = "a coordinate or a speed" if speeds else "a coordinate"
+                    listed = "list coordinates or, for the quasi-velocity forms, speeds" if speeds \
+                        else "list coordinates"
                     self.problems.append(
-                        f"[forms] independent: '{name}' is not a coordinate"
-                        + did_you_mean(str(name), m.coordinates)
+                        f"[forms] independent: '{name}' is not {what}"
+                        + did_you_mean(str(name), list(m.coordinates) + speeds)
+                        + f"; {listed} ({', '.join(list(m.coordinates) + speeds)})"
                     )
             self.set("independent", ind)
         sim = m.simulation

@@ -69,7 +69,7 @@ class Appell(Formalism):
     def derive(self, dyn, rows, independent):
         ideal, kept = split_rows(rows)
         if dyn.model.speeds:
-            pv = partial_velocities(dyn, ideal, independent, self.name)
+            pv = partial_velocities(dyn, ideal, independent, self.name, self.speed_order)
             if pv.subs:   # explicit: the equations in the declared speeds
                 return self._in_speeds(dyn, rows, ideal, kept, pv)
         red = reduce_velocities(dyn, ideal, independent)

@@ -30,9 +30,8 @@ from __future__ import annotations
 import symengine as se
 
 from ..dynamics import count_ops
-from ..eom import EquationsOfMotion
-from .base import Formalism, project_rows, split_rows
-from .quasi import Reduced, assemble, fold_trig, norm_reducer, quasi_lagrangian, speed_basis
+from .base import Formalism
+from .quasi import fold_trig, norm_reducer, quasi_equations
 
 __all__ = ["BoltzmannHamel", "hamel_coefficients"]
 
@@ -76,37 +75,22 @@ class BoltzmannHamel(Formalism):
                 "+ sum dT*/du_k gamma^k_rs u_s = Pi_r")
 
     def derive(self, dyn, rows, independent):
-        ideal, kept = split_rows(rows)
-        basis = speed_basis(dyn, ideal, independent, self.name)
-        ql = quasi_lagrangian(dyn, basis, ideal, self.name)
-        n, k = dyn.n, basis.k
-        gamma = hamel_coefficients(dyn, ql)
-        speeds = basis.symbols
-        lhs = []
-        for r in range(k):
-            e = ql.ddt(dyn, ql.dT[r])
-            e -= sum((ql.Phi[j, r] * se.diff(ql.Tstar, dyn.q[j]) for j in range(n) if ql.Phi[j, r] != 0),
-                     se.Integer(0))
-            for (kk, rr, s), g in gamma.items():
-                if rr == r:
-                    e += ql.dT[kk] * g * (speeds[s] if s is not None else 1)
-            lhs.append(e.subs(ql.on_motion))
-        A, c = assemble(dyn, ql, lhs)
-        G, gam, B = project_rows(kept, Reduced(ql.R, ql.r), n)
-        extras = {}
-        labels = list(basis.names) + [f"sigma[{r_.name}]" for r_ in basis.rows]
-        shown = {f"gamma^{labels[kk]}_{basis.names[r]},{basis.names[s] if s is not None else 0}": g
-                 for (kk, r, s), g in gamma.items()}
-        if shown and count_ops(list(shown.values())) <= 300:
-            extras["Hamel coefficients"] = "; ".join(f"{key} = {val}" for key, val in shown.items())
-        notes = [basis.note(), "T* = T with q' = Phi u + phi0 (u: the speeds and the constraints' "
-                 "combinations sigma, zero on the motion)"]
-        return EquationsOfMotion(
-            form=self.name, title=self.title, citation=self.citation, model=dyn.model,
-            unknowns=basis.unknowns, multipliers=tuple(f"lambda_{r_.name}" for r_ in kept),
-            constraint_names=tuple(r_.name for r_ in kept), rows=tuple(rows), independent=basis.names,
-            A_=A, c_=c, Qf_=ql.Pi,
-            B_=B, G_=G, gamma_=gam, R_=ql.R, r_=ql.r, auxiliaries=basis.auxiliaries(), extras_=extras,
-            notes=tuple(notes), eliminated=tuple(r_.name for r_ in ideal),
-            speeds=basis.names if basis.declared else (),
-        )
+        return quasi_equations(self, dyn, rows, independent, hamel_coefficients, _term, _describe)
+
+
+def _term(ql, gamma, r):
+    """``sum_k dT*/du_k (sum_s gamma^k_rs u_s + gamma^k_r0)``."""
+    speeds = ql.basis.symbols
+    return sum((ql.dT[kk] * g * (speeds[s] if s is not None else 1)
+                for (kk, rr, s), g in gamma.items() if rr == r), se.Integer(0))
+
+
+def _describe(ql, gamma, labels):
+    names = ql.basis.names
+    shown = {f"gamma^{labels[kk]}_{names[r]},{names[s] if s is not None else 0}": g
+             for (kk, r, s), g in gamma.items()}
+    extras = {}
+    if shown and count_ops(list(shown.values())) <= 300:
+        extras["Hamel coefficients"] = "; ".join(f"{key} = {val}" for key, val in shown.items())
+    return extras, ["T* = T with q' = Phi u + phi0 (u: the speeds and the constraints' "
+                    "combinations sigma, zero on the motion)"]

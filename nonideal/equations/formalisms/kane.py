@@ -42,7 +42,7 @@ class Kane(Formalism):
 
     def derive(self, dyn, rows, independent):
         ideal, kept = split_rows(rows)
-        pv = partial_velocities(dyn, ideal, independent, self.name)
+        pv = partial_velocities(dyn, ideal, independent, self.name, self.speed_order)
         basis, Phi, r, subs, aux = pv.basis, pv.Phi, pv.r, pv.subs, pv.auxiliaries
         n, k = dyn.n, basis.k
         A, _ = quadratic_form(Phi, dyn.M, n, k)
