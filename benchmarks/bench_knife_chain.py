@@ -1,6 +1,11 @@
 """Chain of n knife-edge links: nonideal vs KanesMethod with dependent speeds, side by side.
 
     python benchmarks/bench_knife_chain.py [--quick] [--n 2,4,6]
+    python benchmarks/bench_knife_chain.py --elastic [--n 10,100,1000] [--kane 3]
+
+``--elastic``: many bodies with a constraint each, sparse all through (each link its own
+coordinates, springs between neighbours): check and a 1 s simulation against the number of
+links, and KanesMethod side by side at a small size (``benchmarks/elastic_knife_chain.py``).
 
 (a) time to derive from a fresh model, ours in every form of ``nonideal.formalisms.FORMS``
     ("build" = the Model from PlanarBodies and constraints; "derive"; "+SymPy" = conversion of
@@ -331,6 +336,10 @@ def targets(a_rows, fits) -> list[str]:
 
 
 def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    if "--elastic" in argv:   # many links, each its own coordinates: elastic_knife_chain.py
+        import elastic_knife_chain
+        return elastic_knife_chain.run(argv)
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="small sizes, under a minute")
     ap.add_argument("--n", help="comma-separated sizes (default 2..12; quick 2,3,4,6)")

@@ -354,9 +354,11 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
     rows = kernel.rows
     # the frictionless constraint set: constraint rows and the normal rows of touching contacts
     normal_rows = [j for j, r in enumerate(sol.layout) if r.kind != "tangent"]
-    G_ideal = sol.Gm[normal_rows]
+    dense = lambda A: A.toarray() if hasattr(A, "toarray") else A   # noqa: E731 - sparse for many coordinates
+    B_all, G_all = dense(sol.B), dense(sol.G)
+    G_ideal = dense(sol.Gm)[normal_rows]
     R_total = sol.M @ sol.qdd - sol.F
-    split = painleve_split(sol.M, G_ideal, R_total) if normal_rows else None
+    split = painleve_split(dense(sol.M), G_ideal, R_total) if normal_rows else None
     lam_split = {}
     if split is not None:
         for k, j in enumerate(normal_rows):
@@ -367,9 +369,9 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
         active = r_i in sol.rows
         lam = sol.multiplier(r_i) if active else 0.0
         multipliers[name] = float(lam)
-        generalized = sol.B[:, r_i] * lam if active else np.zeros(n)
+        generalized = B_all[:, r_i] * lam if active else np.zeros(n)
         if split is not None and active:
-            constraint_part = sol.G[r_i] * lam_split[name]
+            constraint_part = G_all[r_i] * lam_split[name]
             friction_part = generalized - constraint_part
         else:
             constraint_part, friction_part = generalized, np.zeros(n)

@@ -18,7 +18,7 @@ m g at P: a u x m g e_z.  Both are along u x e; equating them,
 The file starts the disk in this state (psi' = Omega, phi' = -Omega cos(alpha)); the run keeps
 the inclination, the precession rate and the centre constant.  The decay of the real disk
 (rolling and spin friction, Moffatt's finite-time singularity) takes friction torques at the
-contact, which this model leaves out.
+contact: :mod:`nonideal.gallery.euler_disk_decay`.
 """
 
 from __future__ import annotations

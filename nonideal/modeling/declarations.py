@@ -54,8 +54,8 @@ class Constraint:
     expr : str or sympy.Expr
         Holonomic constraints depend on coordinates and time; nonholonomic ones also on
         velocities (linear or not: Chetaev's rule gives the reaction direction); a
-        second-order constraint may contain accelerations (``x''``), a third-order one third
-        derivatives (``x'''``), linearly or not (then with ``reaction``).
+        second-order constraint may contain accelerations (``x''``), one of order n >= 3 the
+        n-th derivatives (``x'''``, ``x''''``, ...), linearly or not (then with ``reaction``).
     kind : {"auto", "holonomic", "nonholonomic", "servo"}
         ``"auto"`` infers holonomic/nonholonomic from the derivatives present.  ``"servo"``
         requires ``reaction``.
@@ -83,12 +83,14 @@ class Constraint:
         controls are the least-cost ones, ``min u^T cost u`` (least norm by default).
     cost : j x j nested sequence of numbers / parameter expressions, optional
         The symmetric positive-definite quadratic cost of the controls.
-    initial : number, expression or sequence of n_q of them, optional
-        A third-order constraint (``x'''`` in ``expr``): its force at ``t0``, which the state
-        (q, q') does not determine -- the multiplier ``lambda(t0)`` with ``reaction``, the
-        generalized reaction ``R(t0)`` (n_q components) without (ideal: ``R' = Lambda
-        (d expr/d q''')^T``, the Gauss principle of third order).  In a model file:
-        ``[initial] lambda_<name>``.
+    initial : number, expression, or sequence of them, optional
+        A constraint of order n >= 3 (``x'''``, ``x''''``, ... in ``expr``): its force and the
+        force's derivatives up to order ``n - 3`` at ``t0``, which the state (q, q') does not
+        determine.  With ``reaction``: the multiplier ``lambda(t0)`` (order 3), or the sequence
+        ``(lambda, lambda', ...)`` of ``n - 2`` numbers.  Without (ideal: ``R^(n-2) = Lambda
+        (d expr/d q^(n))^T``, the generalized Gauss principle of order n): the generalized
+        reaction ``R(t0)`` (n_q components; order 3), or ``n - 2`` such sequences
+        ``(R, R', ...)``.  In a model file: ``[initial] lambda_<name>``, ``"lambda_<name>'"``, ...
     """
 
     name: str
@@ -98,12 +100,12 @@ class Constraint:
     reaction: tuple[Any, ...] | None = None
     transform: tuple[tuple[Any, ...], ...] | None = None
     restitution: float = 0.0
-    order: int = -1  # filled by the Model: 0 holonomic, 1 first order, 2 second, 3 third order
+    order: int = -1  # filled by the Model: 0 holonomic, 1 first order, 2 second, n: order n
     losses: tuple[Any, ...] | None = None
     root: str | None = None  # "largest" | "smallest": a constraint nonlinear in q''
     controls: tuple[tuple[Any, ...], ...] | None = None  # j control directions (Beghin: r < j)
     cost: tuple[tuple[Any, ...], ...] | None = None      # j x j quadratic cost of the controls
-    initial: Any = None  # third order: the force at t0 (lambda; ideal: the n_q components of R)
+    initial: Any = None  # order n >= 3: the force and its derivatives at t0 (normalized: n - 2 levels)
     shared: bool = False  # a servo program realized by the model's shared controls (set by the Model)
 
     @classmethod

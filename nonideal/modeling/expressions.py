@@ -15,8 +15,8 @@ Grammar (the precedence of Python/SymPy: ``-x^2 = -(x^2)``, ``2^3^2 = 2^9``)::
     unary  := ("+" | "-")* power
     power  := atom (("^" | "**") unary)?
     atom   := NUMBER | NAME | NAME "(" expr ("," expr)* ")" | "(" expr ")" | FRAME "." AXIS
-    NAME   := [A-Za-z_][A-Za-z_0-9]* followed by up to two primes (x' and x''; three,
-              x''', where the names allow it: a constraint's expr)
+    NAME   := [A-Za-z_][A-Za-z_0-9]* followed by up to two primes (x' and x''; three or
+              more, x''' or x'''', where the names allow it: a constraint's expr)
 
 With the model's kinematics (``vectors``, a :class:`~nonideal.modeling.kinematics.Kinematics`)
 a subexpression may be a vector (:class:`~nonideal.modeling.vectors.Vector`, three components
@@ -409,10 +409,11 @@ class _Parser:
     def name(self, tok: _Token) -> sp.Expr:
         name = tok.text
         base, primes = name.rstrip("'"), len(name) - len(name.rstrip("'"))
-        if primes > 3 or (primes == 3 and name not in self.names):
+        if primes >= 3 and name not in self.names:
+            top = max((len(k) - len(base) for k in self.names if k.rstrip("'") == base), default=0)
             raise _Fail(tok.col, f"{name}: only first (x') and second (x'') derivatives can be "
-                                 "written" + (", and third ones (x''') in a constraint's expr"
-                                              if primes == 3 else ""))
+                                 "written, and higher ones (x''', x'''', ...) in a constraint's "
+                                 "expr only" + (f" (up to order {top} there)" if top >= 3 else ""))
         if name in self.names:
             return self.names[name]
         if name in CONSTANTS:

@@ -19,7 +19,8 @@ from .symbols import is_identifier
 from .quantities import base_units, with_units
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
 from .normalize_kinematics import normalize_kinematics, normalize_quaternion_initial, resolve_body
-from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
+from .members import MemberExpansion
+from .high_order import MAX_ORDER, cost_problem, high_order_problem, initial_forces, normalize_controls
 from .speeds import finish_speeds_and_outputs, normalize_speeds
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
 
@@ -72,14 +73,26 @@ class Normalizer:
 
     def run(self) -> None:
         self.unknown: list[tuple[str, str]] = []
+        members = MemberExpansion(self.m.members, self.problems) if self.m.members else None
+        if members is not None:   # elastic members: their amplitudes are coordinates
+            self.set("coordinates", members.coordinates(tuple(self.m.coordinates)))
+            self.set("initial", members.initial(self.m.initial))
         self.names_and_parameters()
         if self.problems:
             return
+        if members is not None:   # their material points are points of the model
+            self.set("points", tuple(self.m.points) + tuple(members.points(self)))
         self.kinematics = normalize_kinematics(self)
         self.m.__dict__["_kinematics"] = self.kinematics
         normalize_speeds(self)       # the speed names may be used in every later expression
         self.bodies_and_loads()      # first: momentum(body) may appear in energies and forces
         self.energy_and_forces()
+        if members is not None:   # expanded once: a replaced model keeps the energies, not the members
+            T, V = members.energies(self)
+            self.set("kinetic", self.m.kinetic + T)
+            self.set("potential", self.m.potential + V)
+            self.m.__dict__["_members"] = tuple(members.members)
+            self.set("members", ())
         normalize_controls(self)
         self.constraints()
         self.contacts()
@@ -313,7 +326,7 @@ class Normalizer:
                     "use holonomic, nonholonomic or servo"
                 )
                 continue
-            expr = self.smooth(self.expr(c.expr, f"{where}: expr", 3), f"{where}: expr")
+            expr = self.smooth(self.expr(c.expr, f"{where}: expr", MAX_ORDER), f"{where}: expr")
             if expr is None:
                 continue
             order = derivative_order(expr, m.coordinates)
@@ -337,8 +350,8 @@ class Normalizer:
                 )
                 continue
             nonlinear = False
-            if order == 3:
-                bad, nonlinear = third_order_problem(m, c, expr, where)
+            if order >= 3:
+                bad, nonlinear = high_order_problem(m, c, expr, where, order)
                 if bad:
                     self.problems.append(bad)
                     continue
@@ -448,9 +461,8 @@ class Normalizer:
         names = {n: sp.Symbol(n) for n in m.parameters}
         values = parameter_values(m.parameters)
         out, given = {}, dict(m.initial)
-        self.set("constraints", tuple(replace(c, initial=initial_multiplier(
-            m, c, given.pop(f"lambda_{c.name}", None), names, self.problems)) if c.order == 3 else c
-            for c in m.constraints))
+        self.set("constraints", tuple(replace(c, initial=initial_forces(
+            m, c, given, names, self.problems)) if c.order >= 3 else c for c in m.constraints))
         for key, value in given.items():
             where = f"[initial] {key}"
             if key not in allowed:

@@ -110,14 +110,12 @@ def normalize_sympy(expr: sp.Basic, names: Mapping[str, sp.Expr], where: str,
 
 def derivative_order(expr: sp.Expr, coordinates: Iterable[str]) -> int:
     names = {s.name for s in expr.free_symbols}
+    coords = set(coordinates)
     order = 0
-    for c in coordinates:
-        if c + "'''" in names:
-            return 3
-        if c + "''" in names:
-            order = 2
-        elif c + "'" in names:
-            order = max(order, 1)
+    for name in names:
+        base = name.rstrip("'")
+        if base in coords:
+            order = max(order, len(name) - len(base))
     return order
 
 

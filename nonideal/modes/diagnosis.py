@@ -14,7 +14,7 @@ import numpy as np
 from ..errors import MechanicsError, ModelError, PainleveParadox, SingularSystem
 from ..equations.high_order import extended
 from ..modeling.model import Model
-from ..numeric.blocks import definite_above
+from ..numeric.blocks import definite_above, definite_above_sparse, dependent_rows
 from ..numeric.consistency import complete_state
 from ..numeric.kernel import kernel_of, parameter_vector
 
@@ -73,10 +73,16 @@ def diagnose_state(model: Model, t: float, q, qd, closed=(), definite: bool = Fa
     names = list(model.coordinates)
     x = kernel.state_input(t, q, qd, params)
     out = kernel.dynamics(x)
-    M = np.asarray(out["M"], dtype=float)
     rows = [i for i, r in enumerate(kernel.rows) if not r.unilateral or i in set(closed)]
     where = format_state(model, t, q)
-    G = np.asarray(out["G"], dtype=float)[rows] if rows and kernel.m else np.zeros((0, kernel.n))
+    if kernel.compact:   # many coordinates: sparse tests first, dense only to name a problem
+        problem = _compact_problem(kernel, out, rows)
+        if problem is None:
+            return None
+        if kernel.n > DENSE_DIAGNOSIS_MAX:
+            return SingularSystem(f"{problem} at {where}", src)
+    M = kernel.dense(out, "M")
+    G = kernel.dense(out, "G")[rows] if rows and kernel.m else np.zeros((0, kernel.n))
     problems = []
     scale = 1.0 + (float(np.max(np.abs(G))) if G.size else 0.0)
     keep: list[int] = []
@@ -149,6 +155,35 @@ def diagnose_state(model: Model, t: float, q, qd, closed=(), definite: bool = Fa
                 f"combination {combo} it is negative (inertia {w[k]:.4g}); check the signs of "
                 "[energy] kinetic (T = m/2*x'^2 >= 0) and the masses and moments of inertia of [[bodies]]", src)
     return None
+
+
+DENSE_DIAGNOSIS_MAX = 5000
+"""Up to this many coordinates a singular system of a compact kernel (many coordinates, sparse
+matrices) is explained on dense matrices, naming the velocity combination or the constraints;
+beyond, the error says what is singular from the sparse tests alone."""
+
+
+def _compact_problem(kernel, out, rows) -> str | None:
+    """What the sparse tests find wrong with a compact kernel's system, or None when ``M`` is
+    positive definite (Cholesky block by block) and the rows are independent (rank tests
+    component by component) -- then ``M`` is definite on every velocity the rows allow."""
+    if rows:
+        G = kernel.gradients(out)[rows]
+        scale = 1.0 + (float(abs(G).max()) if G.nnz else 0.0)
+        norms = np.asarray(abs(G).max(axis=1).todense()).ravel()
+        zero = [kernel.rows[rows[j]].name for j in np.flatnonzero(norms <= 1e-12 * scale)]
+        if zero:
+            return f"constraint(s) {', '.join(repr(z) for z in zero)} have a zero gradient"
+        dep = [kernel.rows[rows[j]].name for j in dependent_rows(G, 1e-10 * scale)]
+        if dep:
+            return (f"dependent (redundant) constraints: {', '.join(repr(d) for d in dep)} repeat what "
+                    "the others impose; remove them or make them independent")
+    M = kernel.mass(out)
+    tol = 1e-10 * max(1.0, float(abs(M).max()) if M.nnz else 0.0)
+    if definite_above_sparse(M, tol):
+        return None
+    return ("the mass matrix is not positive definite (a coordinate or a combination without "
+            "inertia, or a kinetic energy that is negative along some velocity)")
 
 
 def diagnose_initial_state(model: Model, definite: bool = False) -> ModelError | None:

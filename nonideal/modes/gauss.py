@@ -112,7 +112,7 @@ def gauss_accelerations(solver, t: float, q: np.ndarray, qd: np.ndarray, mode) -
     x = solver.input(t, q, qd)
     out = kernel.dynamics(x)
     cout = {k: np.array(v) if isinstance(v, np.ndarray) else v for k, v in ck(x).items()} if ck else None
-    M, F = out["M"].copy(), out["F"].copy()
+    M, F = kernel.dense(out, "M"), out["F"].copy()
     layout = solver.layout(mode)
     sliding = [(c, cs) for c, (_, cs) in enumerate(mode.contacts) if cs.state in (SLIDE, SMOOTH)]
     controlled = [k for k, r in enumerate(layout)

@@ -68,6 +68,19 @@ class Motion:
         motion._sol = sol
         return motion
 
+    @classmethod
+    def in_phase(cls, solver, mode: Mode, system, t: float, y: np.ndarray, sol: np.ndarray) -> "Motion":
+        """:meth:`solved` for the many samples of one native phase: *system* is the mode's
+        (``system_of(solver.kernel, mode)``, looked up once for the phase), and no solve of
+        the solver is looked for (the states are the native loop's, never the solver's)."""
+        motion = cls.__new__(cls)
+        motion.solver, motion.mode, motion.system = solver, mode, system
+        motion.t, motion.y, motion.n = t, y, system.n
+        motion._lu = motion._piv = motion._solution = None
+        motion._values = motion._obs = motion._dyn = motion._kin = None
+        motion._sol = sol
+        return motion
+
     @property
     def q(self) -> np.ndarray:
         return self.y[:self.n]
@@ -141,13 +154,15 @@ class Motion:
         j = self.system.normal_of.get(c)  # a friction torque: its contact's normal force
         return 0.0 if j is None else float((self.values if values is None else values)[j])
 
-    def friction(self, c: int, values: np.ndarray | None = None) -> np.ndarray:
-        """Friction force of contact *c* (its slip components); *values* as for :meth:`normal`."""
+    def friction(self, c: int, values: np.ndarray | None = None, continued: bool = True) -> np.ndarray:
+        """Friction force of contact *c* (its slip components); *values* as for :meth:`normal`;
+        *continued* as for :meth:`~nonideal.modes.solver.ModeSolver.friction_shape` (False for a
+        sample reported after the run)."""
         cs = self.mode.contacts[c][1]
         if cs.state == STICK:
             return (self.values if values is None else values)[self.system.tangent_cols[c]]
         if cs.state in (SLIDE, SMOOTH):
-            s = self.solver.friction_shape(c, cs, self.slip(c), self.qd)
+            s = self.solver.friction_shape(c, cs, self.slip(c), self.qd, continued)
             return -cs.sigma * self.mu(c) * self.normal(c, values) * s
         return np.zeros(self.solver.ck.dims[c])
 
@@ -174,7 +189,14 @@ class Motion:
     def constraint_acc(self, row: int) -> float:
         """``f'' = G q'' + gamma`` of kernel row *row* (a released unilateral constraint)."""
         n = self.n
-        return float(self._dynamics("G")[row * n:(row + 1) * n] @ self.qdd + self._dynamics("gamma")[row])
+        kernel = self.solver.kernel
+        if kernel.compact:
+            pattern = kernel.patterns["G"]
+            lo, hi = pattern.indptr[row], pattern.indptr[row + 1]
+            g = self._dynamics("G")[lo:hi] @ self.qdd[pattern.cols[lo:hi]]
+        else:
+            g = self._dynamics("G")[row * n:(row + 1) * n] @ self.qdd
+        return float(g + self._dynamics("gamma")[row])
 
     # ------------------------------------------------------------------ kinematics
     @property
@@ -228,7 +250,7 @@ class Motion:
         forces as reported: :attr:`reported`)."""
         at, kin = self.solver.ck.at, self.kin
         shown = self.reported
-        return (self.mode.contacts[c][1].label(), self.normal(c, shown), self.friction(c, shown), self.slip(c),
+        return (self.mode.contacts[c][1].label(), self.normal(c, shown), self.friction(c, shown, False), self.slip(c),
                 kin[at["gap"] + c], kin[at["mu_s"] + c])
 
     def residuals(self, drift) -> tuple[float, float]:

@@ -30,7 +30,7 @@ from ..equations.dynamics import dynamics_of
 from ..errors import FormNotApplicable
 from ..equations.formalisms import derive
 from ..numeric.kernel import FormSystem, Kernel, SingularMatrix, max_abs, solve_saddle
-from .diagnosis import diagnose_singular
+from .diagnosis import DENSE_DIAGNOSIS_MAX, diagnose_singular
 from .partition import better_partition
 from .routes import route_for
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, ContactForce, ContactState, Mode, RowSpec, Solution
@@ -149,11 +149,14 @@ class ModeSolver:
 
     # ------------------------------------------------------------------ friction shapes
     def friction_shape(self, c: int, cs: ContactState, U: np.ndarray,
-                       qd: np.ndarray | None = None) -> np.ndarray:
+                       qd: np.ndarray | None = None, continued: bool = True) -> np.ndarray:
         """The vector ``s`` with friction ``F = -sigma mu N s`` (unit slip direction for
         Coulomb sliding; the regularized shape for the smooth laws, zero for a frictionless
         contact).  *qd*: the velocities of the state (default: those of the last
-        :meth:`input`), which scale the test ``|U| ~ 0``."""
+        :meth:`input`), which scale the test ``|U| ~ 0``.  *continued* False: the direction of
+        the slip itself, not its continuation through a stop within the current step (the
+        orientation kept from the step's start belongs to the step being taken, not to a
+        sample reported afterwards)."""
         law = self.laws[c]
         if cs.state == SMOOTH:
             nrm = float(np.sqrt(U @ U))
@@ -174,7 +177,7 @@ class ModeSolver:
             # analytic continuation through U = 0 within a step: keep the orientation of the
             # slip at the start of the step, so that the right-hand side stays smooth up to
             # (and a little past) the stop, where the SlipStop event places the switch
-            if ref is not None and s @ ref < 0:
+            if continued and ref is not None and s @ ref < 0:
                 s = -s
             return s
         if ref is not None:
@@ -203,11 +206,13 @@ class ModeSolver:
         G = np.empty((m, n))
         gamma = np.empty(m)
         B = np.empty((n, m))
+        G_all = self.kernel.dense(out, "G") if self.kernel.compact else out.get("G")
+        B_all = self.kernel.dense(out, "B") if self.kernel.compact else out.get("B")
         for j, r in enumerate(layout):
             if r.kind == "constraint":
-                G[j] = out["G"][r.index]
+                G[j] = G_all[r.index]
                 gamma[j] = out["gamma"][r.index]
-                B[:, j] = out["B"][:, r.index]
+                B[:, j] = B_all[:, r.index]
             elif r.kind == "normal":
                 c = r.index
                 G[j] = cout["Gn"][c]
@@ -340,10 +345,12 @@ class ModeSolver:
             x = self.input(t, q, qd)
             self._last_direct = {}
             return qdd, None, layout, self.kernel.dynamics(x), (self.ck(x) if self.ck else None)
+        if self.kernel.compact and self.route.saddle_point:
+            return self._compact_accelerations(t, q, qd, mode, layout)
         x = self.input(t, q, qd)
         out = self.kernel.dynamics(x)
         cout = self.ck(x) if self.ck else None
-        M, F = out["M"], out["F"]
+        M, F = (self.kernel.dense(out, "M") if self.kernel.compact else out["M"]), out["F"]
         try:
             if not layout:
                 if self.route.saddle_point:
@@ -375,6 +382,37 @@ class ModeSolver:
                 if sol is not None:
                     return sol[0], sol[1], layout, out, cout
             raise diagnose_singular(self, M, Gm, Bm, layout, t, q, qd) from None
+
+    def _compact_accelerations(self, t, q, qd, mode: Mode, layout):
+        """:meth:`accelerations` of a compact kernel (many coordinates): the mode's sparse
+        system (:class:`~nonideal.modes.system.ModeSystem`); a singular one is diagnosed on
+        dense matrices up to :data:`DENSE_DIAGNOSIS_MAX` coordinates, else refused."""
+        n = self.n
+        system = self.system(mode)
+        try:
+            sol = system.solve(self, t, np.concatenate((q, qd)), mode)
+        except SingularMatrix:
+            x = self.input(t, q, qd)
+            out = self.kernel.dynamics(x)
+            cout = self.ck(x) if self.ck else None
+            if n > DENSE_DIAGNOSIS_MAX:
+                from ..errors import MechanicsError
+                raise MechanicsError(
+                    f"the saddle-point system of mode {mode.label()} is singular at t = {t:.6g} (a mass "
+                    "matrix that is not positive definite on the allowed velocities, or dependent "
+                    f"constraints); with {n} coordinates it is not diagnosed further (that needs "
+                    "dense n x n matrices): run `nonideal check` on the model, or a smaller one") from None
+            M, F = self.kernel.dense(out, "M"), out["F"]
+            Gm, gm, Bm = self.assemble(mode, layout, out, cout) if layout else (
+                np.zeros((0, n)), np.zeros(0), np.zeros((n, 0)))
+            if any(r.kind != "constraint" for r in layout):
+                found = _minimum_norm(M, F, Bm, Gm, gm)
+                if found is not None:
+                    return found[0], found[1], layout, out, cout
+            raise diagnose_singular(self, M, Gm, Bm, layout, t, q, qd) from None
+        out = self.kernel.dynamics.views(self.kz)
+        cout = self.ck.fn.views(self.ck.fn.raw(self.x, self.cz)) if self.ck else None
+        return sol[:n], -sol[n:], layout, out, cout
 
     def _solve_on_chart(self, mode: Mode, fs: FormSystem, Gm, layout, t, q, xb):
         """Lagrange II: ``(fs, fs.solve(xb))`` on the chart *fs*, or on the chart that
@@ -421,7 +459,10 @@ class ModeSolver:
             system = self.system(mode)
             y = np.concatenate((q, qd))
             K, r, _ = system.assemble(self, t, y, mode)
-            Gm, gm, Bm = K[n:, :n].copy(), -r[n:], K[:n, n:].copy()  # before the factorization
+            if K.ndim == 1:   # a compact kernel without rows: K holds M's entries
+                Gm, gm, Bm = np.zeros((0, n)), np.zeros(0), np.zeros((n, 0))
+            else:
+                Gm, gm, Bm = K[n:, :n].copy(), -r[n:], K[:n, n:].copy()  # before the factorization
             try:
                 sol, _, _ = system.factor(K, r)
             except SingularMatrix:
@@ -444,10 +485,11 @@ class ModeSolver:
         :meth:`solve`."""
         n, m_all = self.n, self.kernel.m
         qdd = np.array(qdd, dtype=float)
-        M, F = out["M"].copy(), out["F"].copy()
-        G = out["G"].copy() if m_all else np.zeros((0, n))
+        kernel = self.kernel   # M, G, B sparse for a compact kernel (many coordinates)
+        M, F = kernel.mass(out).copy(), out["F"].copy()
+        G = kernel.gradients(out).copy()
         gamma = out["gamma"].copy() if m_all else np.zeros(0)
-        B = out["B"].copy() if m_all else np.zeros((n, 0))
+        B = kernel.reactions(out).copy()
         cout = {k: (np.array(v) if isinstance(v, np.ndarray) else v) for k, v in cout.items()} if cout else None
         direct = {}
         if values is None:

@@ -369,7 +369,7 @@ def effective_compliance(solver: ModeSolver, t, q, qd, mode: Mode, contact: str,
     layout = solver.layout(mode)
     G, gamma, B = solver.assemble(mode, layout, out, cout)
     j = next(k for k, r in enumerate(layout) if r.kind == "normal" and r.index == c)
-    return compliance_of(out["M"], B, G, j)
+    return compliance_of(solver.kernel.dense(out, "M"), B, G, j)
 
 
 def critical_friction(solver: ModeSolver, t, q, qd, mode: Mode, contact: str) -> float | None:
@@ -437,10 +437,10 @@ def impact(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray, hitting=
     out = kernel.dynamics(x)
     obs = kernel.observables(x)
     cout = {k: np.array(v) if isinstance(v, np.ndarray) else v for k, v in ck(x).items()} if ck else None
-    M = out["M"].copy()
+    M = kernel.dense(out, "M")
     n = solver.n
     sq = 1 + np.max(np.abs(q))
-    G, B = (out["G"].copy(), out["B"].copy()) if kernel.m else (np.zeros((0, n)), np.zeros((n, 0)))
+    G, B = (kernel.dense(out, "G"), kernel.dense(out, "B")) if kernel.m else (np.zeros((0, n)), np.zeros((n, 0)))
     vel = obs["vel"] if kernel.m else np.zeros(0)
     closed = [i for i in solver.unilateral if abs(obs["pos"][i]) <= 1e-8 * sq]
     for i in hitting:

@@ -29,12 +29,13 @@ import math
 import numpy as np
 import symengine as se
 from scipy.linalg import lapack
+from scipy.sparse import issparse
 
 from ..numeric.contact_kernel import contact_kernel_of
 from ..modeling.contacts import RegularizedCoulomb
 from ..equations.dynamics import dynamics_of
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, Mode, RowSpec
-from ..numeric.blocks import BLOCKS_MIN_N, BlockSolver, blocks_of
+from ..numeric.blocks import BLOCKS_MIN_N, BlockSolver, SparseSaddle, blocks_of, dependent_rows
 from ..numeric.kernel import Compiled, SingularMatrix
 
 __all__ = ["ModeSystem", "ModeFunction", "system_of", "compliance_of", "SPECIALIZE_CALLS"]
@@ -118,51 +119,81 @@ class ModeSystem:
         cat = {name: c0 + start for name, start in ck.at.items()}
         m_all = kernel.m
         # K (Fortran order: entry (i, k) at i + k s) and r = [F; -gamma], gathered from z: the
-        # compiled (nonzero) entries of M only, the others stay zero
-        nz = kd.entries("M")
+        # compiled (nonzero) entries of M only, the others stay zero; with a compact kernel
+        # (many coordinates) K is sparse: the same entries by (row, column) (SparseSaddle)
+        compact = kernel.compact
         self.M_at = ksl["M"]
-        src_M, dst_M = ksl["M"] + nz, nz // n + (nz % n) * s
+        #: the pattern of M's entries in a compact kernel
+        self.mass_pattern = kernel.patterns.get("M")
+        if compact:
+            pM = kernel.patterns["M"]
+            nz = pM.rows * n + pM.cols   # only for the blocks below
+            trip = [(pM.rows, pM.cols, ksl["M"] + np.arange(len(pM.rows)))]
+            if m_all:
+                pG, pB = kernel.patterns["G"], kernel.patterns["B"]
+                b_order = np.argsort(pB.cols, kind="stable")
+                b_ptr = np.concatenate(([0], np.cumsum(np.bincount(pB.cols, minlength=m_all))))
+        else:
+            nz = kd.entries("M")
+            trip = [(nz // n, nz % n, ksl["M"] + nz)]
         #: M q'' = F by blocks when M has independent blocks (many bodies; None: dense LAPACK)
         self.blocks = None
         if not m and n >= BLOCKS_MIN_N:
-            groups = blocks_of(n, zip((nz // n).tolist(), (nz % n).tolist()))
-            self.blocks = BlockSolver(n, groups) if len(groups) > 1 else None
-        src, dst = [], []
+            if compact:
+                self.blocks = BlockSolver.of_pattern(n, pM.rows, pM.cols)
+            else:
+                groups = blocks_of(n, zip((nz // n).tolist(), (nz % n).tolist()))
+                self.blocks = BlockSolver(n, groups) if len(groups) > 1 else None
+        every = np.arange(n)
         rsrc = list(range(ksl["F"], ksl["F"] + n))
         self.sliding = []
         self.tangent_slip: dict[int, int] = {}  # layout row of a sticking slip -> its U in z
         for j, r in enumerate(layout):
             col = n + j
             if r.kind == "constraint":
-                g_row = [ksl["G"] + r.index * n + k for k in range(n)]
-                b_col = [ksl["B"] + k * m_all + r.index for k in range(n)]
+                if compact:
+                    lo, hi = pG.indptr[r.index], pG.indptr[r.index + 1]
+                    g_cols, g_src = pG.cols[lo:hi], ksl["G"] + np.arange(lo, hi)
+                    at = b_order[b_ptr[r.index]:b_ptr[r.index + 1]]
+                    b_rows, b_src = pB.rows[at], ksl["B"] + at
+                else:
+                    g_cols = b_rows = every
+                    g_src, b_src = ksl["G"] + r.index * n + every, ksl["B"] + every * m_all + r.index
                 rsrc.append(ksl["gamma"] + r.index)
             elif r.kind == "normal":
                 c = r.index
-                g_row = b_col = [cat["Gn"] + c * n + k for k in range(n)]
+                g_cols = b_rows = every
+                g_src = b_src = cat["Gn"] + c * n + every
                 rsrc.append(cat["gamma_n"] + c)
                 if mode.contacts[c][1].state in (SLIDE, SMOOTH):
                     o, d = ck.offsets[c], ck.dims[c]
                     # (row, contact, U in z, W in z, W's shape, mu in z, the column in K)
                     self.sliding.append((j, c, slice(cat["U"] + o, cat["U"] + o + d),
                                          slice(cat["W"] + o * n, cat["W"] + (o + d) * n), (d, n), cat["mu"] + c,
-                                         slice(col * s, col * s + n)))
+                                         col))
             else:
                 row = ck.offsets[r.index] + r.k
                 self.tangent_slip[j] = cat["U"] + row
-                g_row = b_col = [cat["W"] + row * n + k for k in range(n)]
+                g_cols = b_rows = every
+                g_src = b_src = cat["W"] + row * n + every
                 rsrc.append(cat["gamma_U"] + row)
-            src += g_row + b_col
-            dst += [col + k * s for k in range(n)] + [k + col * s for k in range(n)]
+            trip.append((np.full(len(g_cols), col), g_cols, g_src))
+            trip.append((b_rows, np.full(len(b_rows), col), b_src))
         for c in sorted(ck.torques):   # a sliding friction torque: in its contact's normal column
             if mode.contacts[c][1].state in (SLIDE, SMOOTH):
                 j = self.normal_of[c]
                 o, d = ck.offsets[c], ck.dims[c]
                 self.sliding.append((j, c, slice(cat["U"] + o, cat["U"] + o + d),
-                                     slice(cat["W"] + o * n, cat["W"] + (o + d) * n), (d, n), cat["mu"] + c,
-                                     slice((n + j) * s, (n + j) * s + n)))
-        self.src = np.concatenate((src_M, np.array(src, dtype=np.intp)))
-        self.dst = np.concatenate((dst_M, np.array(dst, dtype=np.intp)))
+                                     slice(cat["W"] + o * n, cat["W"] + (o + d) * n), (d, n), cat["mu"] + c, n + j))
+        rows_K, cols_K, src = (np.concatenate(v).astype(np.intp) for v in zip(*trip))
+        #: the sparse saddle-point matrix of a compact kernel with rows (None: dense K)
+        self.sparse = SparseSaddle(s, rows_K, cols_K, src) if compact and m else None
+        if self.sparse is not None:   # a sliding column: the data of K's column (its n rows of B)
+            ptr = self.sparse.indptr
+            self.sliding = [(*e[:-1], slice(ptr[e[-1]], ptr[e[-1]] + n)) for e in self.sliding]
+        else:
+            self.sliding = [(*e[:-1], slice(e[-1] * s, e[-1] * s + n)) for e in self.sliding]
+        self.src, self.dst = src, rows_K + cols_K * s
         self.rsrc = np.array(rsrc, dtype=np.intp)
         self.power = slice(ksl["P"], ksl["P"] + 2) if "P" in ksl else None
         self.calls = 0  # evaluations by solve_with_powers (the right-hand side)
@@ -182,11 +213,16 @@ class ModeSystem:
         x[1:1 + 2 * n] = y[:2 * n]
         solver.kernel.dynamics.raw(x, solver.kz)
         if not self.m:  # no rows: M q'' = F, read in place (M is symmetric: no transpose)
+            if solver.kernel.compact:  # the vector of M's entries
+                return z[self.M_at:self.M_at + len(self.src)], z[self.rsrc], []
             return z[self.M_at:self.M_at + n * n].reshape(n, n), z[self.rsrc], []
         if self.contact_rows:
             solver.ck.fn.raw(x, solver.cz)
-        K = np.zeros(self.s * self.s)
-        K[self.dst] = z[self.src]
+        if self.sparse is not None:
+            K = self.sparse.data(z)
+        else:
+            K = np.zeros(self.s * self.s)
+            K[self.dst] = z[self.src]
         r = z[self.rsrc]
         np.negative(r[n:], out=r[n:])
         fq = []
@@ -199,6 +235,11 @@ class ModeSystem:
                 K[col] -= fcol
                 if powers:
                     fq.append(cs.sigma * z[mu] * float(direction @ z[u]))
+        if self.sparse is not None:
+            K = self.sparse.matrix(K)
+            if self._dependent is None:
+                self.dependent(K[n:, :n])
+            return K, r, fq
         K = K.reshape((self.s, self.s), order="F")
         if self._dependent is None:
             self.dependent(K[n:, :n])
@@ -213,6 +254,14 @@ class ModeSystem:
         :attr:`dropped`.  A dependent system is never factored: :meth:`factor` raises
         :class:`~nonideal.numeric.SingularMatrix`, and the general path
         (:meth:`ModeSolver.accelerations <nonideal.modes.solver.ModeSolver.accelerations>`) solves it."""
+        if self._dependent is None and issparse(G):
+            # many rows: rank tests component by component (rows sharing no coordinate are
+            # independent of each other); the rows kept are the earlier ones
+            order = [j for j in range(self.m) if not self._ideal[j]] + [j for j in range(self.m) if self._ideal[j]]
+            tol = DEPENDENT_RTOL * max(1.0, float(abs(G).max()) if G.nnz else 0.0)
+            repeated = {order[k] for k in dependent_rows(G[order], tol)}
+            self._dependent = bool(repeated)
+            self.dropped = frozenset(j for j in repeated if self._ideal[j])
         if self._dependent is None:
             # keep the non-ideal rows first, then every ideal row that adds to the rank
             order = [j for j in range(self.m) if not self._ideal[j]] + [j for j in range(self.m) if self._ideal[j]]
@@ -240,7 +289,20 @@ class ModeSystem:
             factorization would give arbitrary multipliers."""
         if self._dependent:
             raise SingularMatrix("dependent rows: statically indeterminate multipliers")
+        if self.sparse is not None:
+            found = SparseSaddle.factor(K, r)
+            if found is None:
+                raise SingularMatrix("saddle-point system")
+            return found[0], found[1], None
         if self.m == 0:
+            if K.ndim == 1:   # a compact kernel: K holds the entries of M
+                sol = self.blocks.solve_entries(K, r) if self.blocks is not None else None
+                if sol is None:
+                    found = SparseSaddle.factor(self.mass_pattern.matrix(K).tocsc(), r)
+                    if found is None:
+                        raise SingularMatrix("mass matrix")
+                    sol = found[0]
+                return sol, None, None
             if self.blocks is not None:
                 sol = self.blocks.solve(K, r)
                 if sol is not None:
@@ -278,7 +340,10 @@ class ModeSystem:
         self.calls += 1
         K, r, fq = self.assemble(solver, t, y, mode, powers=True)
         n = self.n
-        Bqd = y[n:2 * n] @ K[:n, n:]  # before the factorization overwrites K
+        if self.sparse is not None:
+            Bqd = K[:n, n:].T @ y[n:2 * n]
+        else:
+            Bqd = y[n:2 * n] @ K[:n, n:] if self.m else np.empty(0)  # before the factorization overwrites K
         sol, lu, piv = self.factor(K, r)
         solver.last = (t, y, mode, sol, lu, piv)
         lam = sol[n:]  # -lambda
@@ -296,6 +361,7 @@ class ModeSystem:
         :data:`SPECIALIZE_CALLS` times by :meth:`solve_with_powers` (compiled then, once), or
         None (before that, without contact rows, or for a law it does not compile)."""
         if self.function is None and self.calls >= SPECIALIZE_CALLS and self.contact_rows and not self._dependent \
+                and self.sparse is None \
                 and not contact_kernel_of(kernel.model).torques:   # friction torques: the index path
             self.function = ModeFunction.of(kernel, self, mode)
         return self.function or None
@@ -307,7 +373,7 @@ class ModeSystem:
         i = self.n + self.normal_col[c]
         e = np.zeros(self.s)
         e[i] = 1.0
-        inv = _dgetrs(lu, piv, e)[0][i]
+        inv = lu.solve(e)[i] if piv is None else _dgetrs(lu, piv, e)[0][i]
         return -1.0 / inv if inv != 0 else math.inf
 
 
@@ -484,6 +550,7 @@ def compliance_of(M: np.ndarray, B: np.ndarray, G: np.ndarray, j: int) -> float:
     system ``M a = F + B lambda``, ``G a + gamma = 0`` (the lower-right block of the inverse of
     ``[[M, -B], [G, 0]]`` is ``(G M^-1 B)^-1``); 0 when that matrix is singular."""
     n, m = M.shape[0], G.shape[0]
+    M, B, G = (A.toarray() if issparse(A) else A for A in (M, B, G))   # sparse: many coordinates
     K = np.zeros((n + m, n + m))
     K[:n, :n] = M
     K[:n, n:] = -B

@@ -38,7 +38,8 @@ def validate_contacts(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarra
     out = solver.kernel.dynamics(x)
     src = None if solver.model.source == "<api>" else solver.model.source
     problems = []
-    G_con = out["G"][solver.bilateral] if solver.kernel.m and solver.bilateral else np.zeros((0, solver.n))
+    G_con = solver.kernel.dense(out, "G")[solver.bilateral] if solver.kernel.m and solver.bilateral \
+        else np.zeros((0, solver.n))
     for c, data in enumerate(ck.data):
         name = data.name
         if cout["mu"][c] < 0 or cout["mu_s"][c] < 0:
@@ -98,7 +99,7 @@ def validate_state(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray) 
     model = solver.model
     src = None if model.source == "<api>" else model.source
     out = solver.kernel.dynamics(x)
-    if not (np.all(np.isfinite(out["M"])) and np.all(np.isfinite(out["F"]))):
+    if not (np.all(np.isfinite(out["M"])) and np.all(np.isfinite(out["F"]))):  # the entries (compact: a vector)
         obs = solver.kernel.observables(x)
         parts = [(k, what) for k, what in (("T", "[energy] kinetic (or [[bodies]])"), ("V", "[energy] potential"))
                  if not np.all(np.isfinite(np.asarray(obs[k], dtype=float)))]

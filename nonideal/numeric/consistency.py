@@ -82,7 +82,7 @@ class _Levels:
         if nk:
             out = k.dynamics(x)
             obs = k.observables(x)
-            G[:nk] = out["G"]
+            G[:nk] = k.dense(out, "G")
             pos[:nk] = obs["pos"]
             vel[:nk] = obs["vel"]
         if self.ck:

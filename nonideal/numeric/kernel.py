@@ -29,6 +29,10 @@ from dataclasses import dataclass
 import numpy as np
 import symengine as se
 from scipy.linalg import lapack
+from scipy.sparse import csr_matrix, issparse
+
+from . import compact
+from .compact import SparsePattern
 
 from ..equations.dynamics import ConstraintRow, Dynamics, dynamics_of
 from ..equations.eom import EquationsOfMotion
@@ -107,6 +111,8 @@ def _lambdify(inputs, exprs, optimize: bool):
         renamed.append(e.xreplace({s: rename[s] for s in free if s in rename}) if free else e)
     exprs, inputs = renamed, safe
     cse = size <= CSE_MAX_SYMBOLS
+    if len(exprs) * len(inputs) > compact.CHUNK_MIN_WORK:
+        return compact.Chunked(inputs, exprs, optimize, _lambdify)
     if _LLVM and not optimize:
         try:
             return se.Lambdify(inputs, exprs, cse=cse, backend="llvm", opt_level=0)
@@ -340,13 +346,34 @@ class Kernel:
         self.layout = Inputs(dyn.n, len(dyn.params))
         n, m = dyn.n, len(self.rows)
         F = list(dyn.F)
-        G = [[r.G[j] for j in range(n)] for r in self.rows]
         gamma = [r.gamma for r in self.rows]
-        B = [[r.B[j] for r in self.rows] for j in range(n)] if m else []
-        # the mass matrix by its nonzero entries (O(n) of them for many bodies), dense at evaluation
-        outputs = {"M": Sparse((n, n), dyn.mass_entries), "F": F}
-        if m:
-            outputs.update(G=G, gamma=gamma, B=B)
+        #: whether ``M``, ``G`` and ``B`` are compiled as the vectors of their nonzero entries
+        #: (many coordinates: :data:`~nonideal.numeric.compact.SPARSE_MIN_N`); read them with :meth:`mass`,
+        #: :meth:`gradients`, :meth:`reactions`
+        self.compact = n >= compact.SPARSE_MIN_N
+        self.patterns: dict[str, SparsePattern] = {}
+        if self.compact:
+            mass = sorted(dyn.mass_entries.items())
+            self.patterns["M"] = SparsePattern((n, n), [ij for ij, _ in mass])
+            outputs = {"M": [e for _, e in mass], "F": F}
+            if m:
+                # nonzero entries by row (O(nnz) symbolic tests: the zeros are the Integer 0
+                # the rows are built with, found by identity first)
+                zero = se.Integer(0)
+                G = [((i, j), e) for i, r in enumerate(self.rows) for j, e in enumerate(r.G)
+                     if e is not zero and e != 0]
+                B = sorted(((j, i), e) for i, r in enumerate(self.rows) for j, e in enumerate(r.B)
+                           if e is not zero and e != 0)
+                self.patterns["G"] = SparsePattern((m, n), [ij for ij, _ in G])
+                self.patterns["B"] = SparsePattern((n, m), [ij for ij, _ in B])
+                outputs.update(G=[e for _, e in G], gamma=gamma, B=[e for _, e in B])
+        else:
+            G = [[r.G[j] for j in range(n)] for r in self.rows]
+            B = [[r.B[j] for r in self.rows] for j in range(n)] if m else []
+            # the mass matrix by its nonzero entries (O(n) of them for many bodies), dense at evaluation
+            outputs = {"M": Sparse((n, n), dyn.mass_entries), "F": F}
+            if m:
+                outputs.update(G=G, gamma=gamma, B=B)
         self.has_nc_forces = any(se.sympify(q) != 0 for q in dyn.Q_nc)
         P_t = se.diff(dyn.V, dyn.t) - se.diff(dyn.T, dyn.t)
         self.explicit_time = P_t != 0
@@ -412,6 +439,40 @@ class Kernel:
                                                 [c.name for c in conds],
                                                 [c.position is not None for c in conds])
         return self.__dict__["_conditions"]
+
+    def mass(self, out) -> np.ndarray | csr_matrix:
+        """``M`` from the outputs *out* of :attr:`dynamics` (a dict of views, or the flat
+        array): a dense array, or with :attr:`compact` a ``scipy.sparse.csr_matrix`` (a copy)."""
+        return self._matrix(out, "M")
+
+    def gradients(self, out) -> np.ndarray | csr_matrix:
+        """``G`` (shape (m, n)) from the outputs *out*, like :meth:`mass`."""
+        return self._matrix(out, "G") if self.m else np.zeros((0, self.n))
+
+    def reactions(self, out) -> np.ndarray | csr_matrix:
+        """``B`` (shape (n, m)) from the outputs *out*, like :meth:`mass`."""
+        return self._matrix(out, "B") if self.m else np.zeros((self.n, 0))
+
+    def dense(self, out, name: str) -> np.ndarray:
+        """Output matrix *name* (``M``, ``G``, ``B``) as a dense array -- O(n^2) memory with
+        :attr:`compact`: for the diagnoses of small systems and the paths that need it."""
+        if isinstance(out, np.ndarray):
+            out = self.dynamics.views(out)
+        values = np.asarray(out[name], dtype=float)
+        if self.compact and values.ndim == 2:   # a batch (dynamics.batch): one row per state
+            pattern = self.patterns[name]
+            dense = np.zeros((len(values),) + pattern.shape)
+            dense[:, pattern.rows, pattern.cols] = values
+            return dense
+        value = self._matrix(out, name)
+        return value.toarray() if issparse(value) else np.array(value, dtype=float)
+
+    def _matrix(self, out, name: str):
+        if isinstance(out, np.ndarray):
+            out = self.dynamics.views(out)
+        if not self.compact:
+            return out[name]
+        return self.patterns[name].matrix(out[name])
 
     def state_input(self, t: float, q, qd, params: np.ndarray) -> np.ndarray:
         x = self.layout.make(params)

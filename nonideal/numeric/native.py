@@ -220,8 +220,9 @@ def _warm(module, kernel) -> None:
     w = np.zeros(nx + nz + n * n + n)
     # module.rhs, the wrapper for calls from Python, is compiled on its first call
     ix = np.concatenate((np.array([n, 0, -1, 0, 0, nx, nz], dtype=np.int64), np.zeros(n, dtype=np.int64)))
-    # at a generic point, not at zero: a kernel may divide by a norm (Euler parameters' |e|^2)
-    integrator.evaluate(module.kernel, np.full(nx, 0.5), np.zeros(nz))
+    # a generic point, not zero: a parameter or angle in a denominator (EI/L**3, 1/sin(th))
+    # would make the compiled kernel print an ignored ZeroDivisionError at zero
+    integrator.evaluate(module.kernel, np.full(nx, 0.6180339887498949), np.zeros(nz))
     integrator.phase(module.kernel, 0.0, y, np.zeros(2 * n), 1.0, 0.0, 1e-3, np.ones(2 * n), np.inf,
                      w, ix, np.zeros(0), 0, 0, 0.0)
 
@@ -289,7 +290,7 @@ def native_of(kernel) -> Native | None:
     """The (cached) :class:`Native` module of *kernel*, or None when numba is not installed or
     the kernel uses a function the native code does not write."""
     def build():
-        if not available():
+        if not available() or kernel.compact:   # many coordinates: the sparse solves of the NumPy path
             return None
         try:
             import numba

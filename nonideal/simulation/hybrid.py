@@ -36,7 +36,7 @@ from ..numeric.kernel import kernel_of, max_abs, parameter_vector
 from ..modes.switching import impact, select_mode
 from ..modes.validation import validate_state
 from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
-from .guards import GuardRates, Step, event_hits
+from .guards import GuardRates, Step, event_hits, with_step_limit
 from .singular import BRANCHES, JUMP_FROM, MassGuard, Regularity, explain_stall, singular_level
 from .extended import reduce
 from ..equations.high_order import extension_of
@@ -248,7 +248,7 @@ class Simulation:
     def _energy(self, t, q, qd) -> float:
         """Jacobi's energy ``T2 - T0 + V`` at a state."""
         x = self.solver.input(t, q, qd)
-        M = self.kernel.dynamics(x)["M"]
+        M = self.kernel.mass(self.kernel.dynamics(x))   # sparse for many coordinates
         obs = self.kernel.observables(x)
         return float(0.5 * qd @ M @ qd - obs["T0"] + obs["V"])
 
@@ -512,6 +512,7 @@ class Simulation:
                 t, y = t_new, ode.y
                 if ode.status == "finished":
                     break
+                ode = with_step_limit(ode, lambda t_, y_, **kw: Solver(fun, t_, y_, t_end, **dict(kwargs, **kw)))
             if stopped or (not restart and ode.status == "finished"):
                 break
         if pending or samples and samples[-1].t < t:  # a switch at the end; the thinned last step

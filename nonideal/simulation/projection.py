@@ -42,13 +42,14 @@ def project_mode(sim, mode: Mode, t, q, qd):
         if max(map(abs, rp + rv)) < 1e-14 * scale:
             break
         out = sim.kernel.dynamics(sim.solver.input(t, q, qd)) if rows else None
+        G = sim.kernel.dense(out, "G") if rows else None
         for i in rows:  # keep the constraints while correcting the contacts
             r = sim.kernel.rows[i]
             if r.position is not None:
-                Gp.append(out["G"][i].copy())
+                Gp.append(G[i].copy())
                 rp.append(0.0)
             if r.velocity is not None:
-                Gv.append(out["G"][i].copy())
+                Gv.append(G[i].copy())
                 rv.append(0.0)
         q = q + np.linalg.lstsq(np.array(Gp), -np.array(rp), rcond=None)[0]
         qd = qd + np.linalg.lstsq(np.array(Gv), -np.array(rv), rcond=None)[0]

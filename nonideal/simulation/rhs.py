@@ -98,11 +98,11 @@ def general_rhs(sim, mode: Mode):
                 qdd, P_f = sol.qdd, sum(float(cf.F @ cf.U) for cf in sol.contacts.values() if cf.F.size)
             else:
                 P_f = solver.friction_power(mode, layout, values, cout)
-                R = out["M"] @ qdd - out["F"]
+                R = kernel.mass(out) @ qdd - out["F"]
         else:
             qdd, values, layout, out, cout = solver.accelerations(t, q, qd, mode)
             P_f = 0.0
-            R = out["M"] @ qdd - out["F"] if layout else None
+            R = kernel.mass(out) @ qdd - out["F"] if layout else None
         dy[n:2 * n] = qdd
         # power of the total generalized reaction R = M q'' - F, split into the friction's
         # power on the slips, sum F . U (never positive), and the rest (ideal and servo

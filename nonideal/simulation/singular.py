@@ -49,12 +49,15 @@ is and guarded as with ``"stop"``: a singular instant without a smooth branch st
 from __future__ import annotations
 
 import numpy as np
+from scipy.sparse import diags, issparse
+from scipy.sparse.linalg import splu
 
 from scipy.interpolate import KroghInterpolator
 from scipy.optimize import brentq, minimize_scalar
 
 from ..errors import IntegrationFailed, MechanicsError, PainleveParadox, SingularMotion, SingularSystem
 from ..modes.diagnosis import weakest_reactions
+from ..numeric.blocks import row_groups
 from ..modes.motion import Motion
 from ..modes.switching import effective_compliance
 from ..modes.types import SLIDE
@@ -90,6 +93,47 @@ BRANCH_TOL = 1e-4
 to the extrapolated state for it to count as the smooth branch."""
 
 
+def _row_dots(A, B) -> np.ndarray:
+    """Row-wise dot products of two arrays (dense or sparse) of one shape."""
+    if issparse(A):
+        return np.asarray(A.multiply(B).sum(axis=1)).ravel()
+    return np.einsum("ij,ij->i", A, B)
+
+
+def _scale_rows(A, d: np.ndarray):
+    """Each row of *A* (dense or sparse) divided by its entry in *d*."""
+    return diags(1.0 / d) @ A if issparse(A) else A / d[:, None]
+
+
+def _weakest_by_groups(M, Gt, groups, m: int):
+    """:func:`~nonideal.modes.diagnosis.weakest_reactions` of ``(M, Gt, Gt^T)`` (sparse, unit
+    rows) group by group, groups of one size batched: ``M^-1 Gt^T`` by one sparse LU, the
+    blocks of ``Gt M^-1 Gt^T`` by group.  The least relative value and its combination (zero
+    outside its group)."""
+    X = splu(M.tocsc()).solve(np.asarray(Gt.T.toarray()))   # M^-1 Gt^T, shape (n, m)
+    S = np.asarray(Gt @ X)
+    col2 = np.einsum("ij,ij->j", X, X)
+    best, w = np.inf, None
+    by_size: dict[int, list] = {}
+    for pos, _ in groups:
+        by_size.setdefault(len(pos), []).append(pos)
+    for r, members in by_size.items():
+        P = np.array(members, dtype=np.intp)
+        blocks = S[P[:, :, None], P[:, None, :]]
+        _, sv, Vt = np.linalg.svd(blocks)
+        scale = np.sqrt(r * col2[P].sum(axis=1))
+        rel = sv[:, -1] / np.maximum(scale, 1e-300)
+        k = int(np.argmin(rel))
+        if rel[k] < best:
+            best, w = float(rel[k]), np.zeros(m)
+            w[P[k]] = Vt[k, -1]
+    return best, w
+
+
+def _dense(A) -> np.ndarray:
+    return A.toarray() if issparse(A) else A
+
+
 def singular_level(rtol: float) -> float:
     """The regularity below which the rows are singular for a run at relative tolerance
     *rtol*: :data:`SINGULAR`, or :data:`AMPLIFY` ``rtol`` when larger (at most
@@ -120,6 +164,7 @@ class Regularity:
         self.reference = np.zeros(len(kernel.rows))  # the largest |G_i| seen
         self.last = None  # the unit rows at the last accepted state
         self.last_end = None  # (time, rows, regularity) at the end of the last step scanned by slopes
+        self._groups: dict[tuple, list] = {}
 
     def start(self, motion, rows: list[int]) -> None:
         """The state that starts a phase (its rows are the reference of the next step)."""
@@ -136,25 +181,52 @@ class Regularity:
         last, self.last = self.last, unit
         if last is None or last.shape != unit.shape or shrink <= max(SUSPECT, 10 * level):
             return True
-        if np.any(np.einsum("ij,ij->i", unit, last) <= 0.0):
+        if np.any(_row_dots(unit, last) <= 0.0):
             return True
-        return len(rows) > 1 and np.linalg.det(unit @ last.T) <= max(SUSPECT, 2 * (10 * level) ** 2)
+        bound = max(SUSPECT, 2 * (10 * level) ** 2)
+        groups = self.groups(rows)
+        if len(groups) == 1:
+            return len(rows) > 1 and np.linalg.det(_dense(unit @ last.T)) <= bound
+        # rows in groups that share no coordinate (nor mass): one determinant per group
+        return any(len(pos) > 1 and np.linalg.det(_dense(unit[pos] @ last[pos].T)) <= bound
+                   for pos, _ in groups)
+
+    def groups(self, rows: list[int]) -> list:
+        """The rows in groups that share no coordinate and no mass entry
+        (:func:`~nonideal.numeric.blocks.row_groups`): ``G M^-1 G^T`` is block diagonal by
+        group, so the regularity is the least of the groups' (each relative to its own size:
+        relative to the whole, a thousand independent knife edges would look 1000 times less
+        regular than one)."""
+        key = tuple(rows)
+        found = self._groups.get(key)
+        if found is None:
+            k, n = self.kernel, self.kernel.n
+            if k.compact:
+                g = (k.patterns["G"].rows, k.patterns["G"].cols)
+                mm = (k.patterns["M"].rows, k.patterns["M"].cols)
+            else:
+                e, f = k.dynamics.entries("G"), k.dynamics.entries("M")
+                g, mm = (e // n, e % n), (f // n, f % n)
+            found = self._groups[key] = row_groups(n, *g, *mm, list(rows))
+        return found
 
     def _unit_rows(self, motion, rows, update=False):
         """The rows scaled to unit norm, and the smallest ratio of a row's norm to its
         reference."""
         G, _ = self._arrays(motion)
         G = G[rows]
-        norms = np.sqrt(np.einsum("ij,ij->i", G, G))
+        norms = np.sqrt(_row_dots(G, G))
         if update:
             self.reference[rows] = np.maximum(self.reference[rows], norms)
         ref = self.reference[rows]
         shrink = float(np.min(norms / np.where(ref > 0, ref, 1.0)))
-        return G / np.where(norms > 0, norms, 1.0)[:, None], shrink
+        return _scale_rows(G, np.where(norms > 0, norms, 1.0)), shrink
 
     def _arrays(self, motion):
-        """``(G, M)`` at the state of *motion*."""
+        """``(G, M)`` at the state of *motion* (sparse for a compact kernel)."""
         out = self.kernel.dynamics(motion.solver.input(motion.t, motion.q, motion.qd))
+        if self.kernel.compact:
+            return self.kernel.gradients(out), self.kernel.mass(out)
         return np.asarray(out["G"], dtype=float).reshape(-1, motion.n), np.asarray(out["M"], dtype=float)
 
     def crossing(self, step, rows: list[int], level: float = SINGULAR, force: bool = False) -> float | None:
@@ -193,7 +265,7 @@ class Regularity:
         """``(rho, vanishing row or None, weakest combination of the rows)``."""
         G, M = self._arrays(motion)
         G = G[rows]
-        norms = np.sqrt(np.einsum("ij,ij->i", G, G))
+        norms = np.sqrt(_row_dots(G, G))
         ref = self.reference[rows]
         shrink = norms / np.where(ref > 0, ref, 1.0)
         j = int(np.argmin(shrink))
@@ -201,9 +273,22 @@ class Regularity:
             return float(shrink[j]), rows[j], None
         if len(rows) == 1:
             return float(shrink[0]), None, None
-        Gt = G / norms[:, None]
+        Gt = _scale_rows(G, norms)
+        groups = self.groups(rows)
         try:
-            dep, w = weakest_reactions(M, Gt, Gt.T)
+            if len(groups) == 1:
+                dep, w = weakest_reactions(_dense(M), _dense(Gt), _dense(Gt).T)
+            elif issparse(M):
+                dep, w = _weakest_by_groups(M, Gt, groups, len(rows))
+            else:   # the weakest group's combination, zero on the others
+                dep, w = np.inf, None
+                for pos, cols in groups:
+                    Gg = _dense(Gt[pos][:, cols])
+                    d, wg = weakest_reactions(_dense(M[cols][:, cols]) if issparse(M) else M[np.ix_(cols, cols)],
+                                              Gg, Gg.T)
+                    if d < dep:
+                        dep, w = d, np.zeros(len(rows))
+                        w[pos] = wg
         except np.linalg.LinAlgError:  # a singular mass matrix is diagnosed elsewhere
             return float(shrink[j]), None, None
         return min(float(shrink[j]), float(np.sqrt(dep))), None, w
@@ -426,7 +511,7 @@ def mass_stall(model, solver, t: float, y: np.ndarray, t0: float, y0: np.ndarray
     n = solver.n
 
     def eig(tt, yy):
-        M = np.asarray(solver.kernel.dynamics(solver.input(tt, yy[:n], yy[n:2 * n]))["M"], dtype=float)
+        M = solver.kernel.dense(solver.kernel.dynamics(solver.input(tt, yy[:n], yy[n:2 * n])), "M")
         return np.linalg.eigh((M + M.T) / 2)
     w0, _ = eig(t0, y0)
     w, v = eig(t, y)
@@ -469,7 +554,7 @@ class MassGuard:
 
     def _eig(self, t, y):
         solver, n = self.sim.solver, self.sim.n
-        M = np.asarray(solver.kernel.dynamics(solver.input(t, y[:n], y[n:2 * n]))["M"], dtype=float)
+        M = solver.kernel.dense(solver.kernel.dynamics(solver.input(t, y[:n], y[n:2 * n])), "M")
         return np.linalg.eigvalsh((M + M.T) / 2)
 
     def check(self, step) -> None:

@@ -448,7 +448,7 @@ def _controls(kernel, mult, qd, dynamics, t, X, integrated=None) -> dict[str, di
         if r.reaction_kind != "servo":
             continue
         u = mult[r.name]
-        B = np.asarray(dynamics["B"], dtype=float).reshape(len(t), kernel.n, -1)[:, :, i]
+        B = kernel.dense(dynamics, "B").reshape(len(t), kernel.n, -1)[:, :, i]
         power = u * np.einsum("ki,ki->k", B, qd)
         work = integrated[r.name].copy() if r.name in integrated else _work(power, t)
         if r.name in names:

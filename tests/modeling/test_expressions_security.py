@@ -138,10 +138,10 @@ def trap():
 def test_attack_is_rejected_quickly_and_runs_nothing(attack, tmp_path):
     marker = tmp_path / "PWNED"
     text = attack.format(marker=marker) if "{marker}" in attack or "{{" in attack else attack
-    start = time.perf_counter()
+    start = time.process_time()     # processor time: a loaded machine does not fail it
     with trap() as calls, pytest.raises(ExpressionError) as info:
         parse_expression(text, NAMES, "[energy] kinetic")
-    elapsed = time.perf_counter() - start
+    elapsed = time.process_time() - start
     assert elapsed < 1.0, f"took {elapsed:.2f} s"
     assert not marker.exists()
     assert calls == []
@@ -158,14 +158,14 @@ def test_nothing_but_expression_error_escapes_on_random_junk():
     rng = random.Random(2024)
     alphabet = list("x m t ' ^ * / + - ( ) , . 0 1 9 e E _ sin cos pi ** [ ] { } : ; = < > % @ \" \\".split())
     alphabet += [" ", "\n", "\u03b8", "__"]
-    start = time.perf_counter()
+    start = time.process_time()
     for _ in range(3000):
         text = "".join(rng.choice(alphabet) for _ in range(rng.randint(1, 25)))
         try:
             parse_expression(text, NAMES, "fuzz")
         except ExpressionError:
             pass
-    assert time.perf_counter() - start < 10
+    assert time.process_time() - start < 10
 
 
 def test_non_ascii_message_names_the_character():
@@ -245,14 +245,14 @@ def test_vector_grammar_fuzz(kinematics):
     rng = random.Random(7)
     alphabet = "x m ' ^ * / + - ( ) , . N B P x y z omega vel pos acc dot cross norm _ 0 1 [ ] ".split()
     alphabet += [" ", "N.x", "B.y", "__class__"]
-    start = time.perf_counter()
+    start = time.process_time()
     for _ in range(3000):
         text = "".join(rng.choice(alphabet) for _ in range(rng.randint(1, 20)))
         try:
             parse_expression(text, NAMES, "fuzz", kinematics)
         except ExpressionError:
             pass
-    assert time.perf_counter() - start < 20
+    assert time.process_time() - start < 20
 
 
 def test_without_kinematics_attribute_access_stays_refused():

@@ -36,10 +36,10 @@ def with_mass(tmp_path, value: str):
 ], ids=["sin-exp-exp-exp", "exp-exp-exp-exp", "sqrt-negative", "product-5000x1e300", "1201-digits"])
 def test_parameter_bombs_are_refused_in_a_second(tmp_path, value, message):
     path = with_mass(tmp_path, value)
-    start = time.perf_counter()
+    start = time.process_time()
     with pytest.raises(ModelError) as info:
         load_model(path)
-    assert time.perf_counter() - start < 10.0  # was minutes, or a hang (seconds on a loaded machine)
+    assert time.process_time() - start < 10.0  # was minutes, or a hang (seconds on a loaded machine)
     assert message in str(info.value) and "[parameters] m" in str(info.value)
     assert len(str(info.value)) < 2000
 
@@ -66,10 +66,10 @@ def test_initial_values_and_at_use_the_same_checks(tmp_path):
 
 @pytest.mark.parametrize("source", ["/dev/zero", "/dev/urandom"])
 def test_endless_files_are_capped(source):
-    start = time.perf_counter()
+    start = time.process_time()
     with pytest.raises(ModelError, match=f"larger than {MAX_FILE_BYTES // 2 ** 20} MiB"):
         load_model(source)
-    assert time.perf_counter() - start < 10.0
+    assert time.process_time() - start < 10.0
 
 
 def test_a_large_file_and_too_many_parameters_are_refused(tmp_path):
@@ -121,10 +121,10 @@ def test_nesting_inside_strings_and_comments_and_long_inline_tables_are_fine():
 def test_a_named_pipe_is_refused_instead_of_waited_on(tmp_path):
     fifo = tmp_path / "model.toml"
     os.mkfifo(fifo)
-    start = time.perf_counter()
+    start = time.process_time()
     with pytest.raises(ModelError, match="not a regular file"):
         load_model(fifo)
-    assert time.perf_counter() - start < 10.0
+    assert time.process_time() - start < 10.0
 
 
 def test_a_long_chain_of_derived_parameters_resolves_in_linear_time():

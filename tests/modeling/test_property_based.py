@@ -39,12 +39,12 @@ junk = st.text(alphabet=string.printable + "\x00\x1b\u00e9\u2212\u00b2'", max_si
 
 
 def _parse_or_refuse(text):
-    start = time.perf_counter()
+    start = time.process_time()
     try:
         expr = parse_expression(text, NAMES, "expr")
     except ExpressionError:
         expr = None
-    assert time.perf_counter() - start < 5.0
+    assert time.process_time() - start < 5.0
     return expr
 
 
@@ -93,9 +93,9 @@ documents = st.fixed_dictionaries({}, optional={
 @SETTINGS
 @given(documents)
 def test_model_documents_build_or_are_refused(data):
-    start = time.perf_counter()
+    start = time.process_time()
     try:
         model_from_dict(data, "doc.toml")
     except ModelError as exc:
         assert exc.exit_code == 2 and str(exc)
-    assert time.perf_counter() - start < 10.0
+    assert time.process_time() - start < 10.0

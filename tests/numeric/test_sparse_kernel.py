@@ -127,9 +127,11 @@ def test_check_of_300_particles_compiles_O_n_entries():
     assert report.counts["n_q"] == 3 * n and report.initial_mode == "free"
     kernel = kernel_of(model)
     n_q = 3 * n
-    # M's diagonal and the n gravity forces are compiled, not the n_q^2 entries of M
+    # M's diagonal and the n gravity forces are compiled, not the n_q^2 entries of M, and the
+    # layout holds M's entries only (a compact kernel: 900 >= SPARSE_MIN_N)
+    assert kernel.compact
     assert kernel.dynamics.compiled == n_q + n
-    assert kernel.dynamics.size == n_q * n_q + n_q
+    assert kernel.dynamics.size == n_q + n_q
     assert len(system_of(kernel, Mode()).blocks.blocks) == n_q
     qdd = ModeSolver(kernel, parameter_vector(model)).solve(0.0, np.zeros(n_q), np.full(n_q, 0.1), Mode()).qdd
     assert np.allclose(qdd[2::3], -9.81) and np.allclose(qdd[0::3], 0) and np.allclose(qdd[1::3], 0)

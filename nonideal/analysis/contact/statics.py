@@ -84,7 +84,7 @@ def servo_equilibrium(model: Model, q=None, t: float | None = None) -> ServoEqui
     obs = kernel.observables(x)
     rows = [i for i, r in enumerate(kernel.rows) if not r.unilateral]
     F = np.asarray(out["F"], dtype=float)
-    B = np.asarray(out["B"], dtype=float)[:, rows] if rows else np.zeros((len(q), 0))
+    B = kernel.dense(out, "B")[:, rows] if rows else np.zeros((len(q), 0))
     reasons = []
     scale_q = 1.0 + float(np.max(np.abs(q)))
     for i in rows:

@@ -84,7 +84,7 @@ def actuator_heat(model, traj, parameters: Mapping[str, float] | None = None) ->
     t = np.asarray(traj.t, dtype=float)
     rate = {c: np.zeros(len(t)) for c in losses}
     for k in range(len(t)):
-        B = kernel.dynamics(kernel.state_input(t[k], traj.q[k], traj.qd[k], params))["B"]
+        B = kernel.dense(kernel.dynamics(kernel.state_input(t[k], traj.q[k], traj.qd[k], params)), "B")
         for c, fn in losses.items():
             mu = np.asarray(fn(*values.values()), dtype=float)
             R = np.asarray(B)[:, kernel.row_index[c]] * float(traj.multipliers[c][k])
