@@ -3,8 +3,8 @@
     python benchmarks/bench_euler_parameters.py [--repeat 5]
 
 The same motion of the top of the gallery (``heavy-symmetric-top``, Z-X-Z Euler angles, and
-``heavy-top-euler-parameters``, the quaternion frame with the norm constraint the library
-adds), started away from the gimbal lock at theta = 0.6 rad with nutation, simulated for 3 s at
+``heavy-top-euler-parameters``, the quaternion frame, |e| kept by the library with no
+constraint), started away from the gimbal lock at theta = 0.6 rad with nutation, simulated for 3 s at
 rtol 1e-10, atol 1e-12 (DOP853) in one process.  Reported: the wall time of each (warm: the
 kernels compiled; and cold: from a fresh model, derivation and compilation included) and the
 ratio parameters / angles (goal: no slower, ratio <= 1), with the final symmetry axes compared.

@@ -6,8 +6,9 @@ the body components of the angular velocity); Euler parameters as in SymPy's
 
 Model.  A top B (mass m, moments of inertia A, A, C about its centre of mass G) turns about
 its fixed tip O; G is at distance l along the symmetry axis B.z.  Its orientation is the unit
-quaternion (e0, e1, e2, e3): the library keeps the norm at one (the constraint ``B_norm``), so
-the three speeds w1, w2, w3 = omega(B) . B.x, B.y, B.z stand for the four rates.  The initial
+quaternion (e0, e1, e2, e3): the frame turns by the rotation of e/|e| and the library holds the
+radial rate e . e' at zero (no constraint), so the three speeds w1, w2, w3 = omega(B) . B.x,
+B.y, B.z stand for the four rates.  The initial
 state is given in speeds.
 
 Invariants.  The energy T + V, the vertical component of the angular momentum about O and its

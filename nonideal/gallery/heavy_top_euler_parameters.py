@@ -3,9 +3,9 @@
 The top of :mod:`nonideal.gallery.heavy_symmetric_top` with its frame given by Euler
 parameters e = (e0, e1, e2, e3) (``quaternion = [...]``, scalar first, the rotation of
 SymPy's ``orient_quaternion``; Kane & Levinson 1985, sec. 1.13).  The library keeps |e| = 1
-with the holonomic constraint ``B_norm`` it adds, and regularizes the kinetic energy by
-c/2 (e . e')^2, which vanishes with its Lagrange derivative on the unit sphere (the motion is
-unchanged, the mass matrix positive definite; :mod:`nonideal.modeling.kinematics`).
+with no constraint: the rotation is that of e/|e| and the kinetic energy gains c/2 (e . e')^2,
+so the equation along e is (e . e')' = 0 -- |e| is conserved by the motion, the mass matrix is
+positive definite, and no multiplier is solved for (:mod:`nonideal.modeling.kinematics`).
 
 The top starts upright, e = (1, 0, 0, 0) -- theta = 0 of the Z-X-Z Euler angles, where their
 equations are singular (the coefficient sin^2 theta of psi'' vanishes) -- spinning at

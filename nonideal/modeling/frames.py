@@ -9,7 +9,8 @@ the meaning of ``sympy.physics.vector.ReferenceFrame``'s ``orient_*`` methods:
   ``R = R3(a3) R2(a2) R1(a1)``; one to three axes (``X``, ``Y``, ``Z`` or ``1``, ``2``, ``3``);
 * ``axis`` (in the parent's axes) and ``angle`` (``orient_axis``);
 * ``quaternion = [e0, e1, e2, e3]``: Euler parameters, scalar first (``orient_quaternion``);
-  the library adds their norm constraint (see :mod:`nonideal.modeling.kinematics`);
+  the rotation is that of e/|e| and the library keeps |e| = 1 (see
+  :mod:`nonideal.modeling.kinematics`);
 * ``matrix``: the 3x3 matrix itself.
 
 Every rotation ``R`` maps the frame's components to its parent's: its columns are the frame's
@@ -226,9 +227,12 @@ def relative(kind: str, data: dict, dt: Callable[[sp.Expr], sp.Expr]):
         e = data["e"]
         ed = [dt(x) for x in e]
         s, v, sd, vd = e[0], sp.Matrix(e[1:]), ed[0], sp.Matrix(ed[1:])
-        R = quaternion_matrix(e)
-        # w = 2 (e0 e' - e0' e +- e x e'): parent (+) and own (-) axes; R w_own = w_parent on |e| = 1
-        return R, 2 * (s * vd - sd * v + v.cross(vd)), 2 * (s * vd - sd * v - v.cross(vd))
+        # the rotation and angular velocity of e/|e|: invariant under e -> k e, so that the
+        # generalized forces have no component along e (see nonideal.modeling.kinematics)
+        n2 = sp.Add(*[x**2 for x in e])
+        R = quaternion_matrix(e) / n2
+        # w = 2 (e0 e' - e0' e +- e x e')/|e|^2: parent (+) and own (-) axes
+        return R, 2 * (s * vd - sd * v + v.cross(vd)) / n2, 2 * (s * vd - sd * v - v.cross(vd)) / n2
     R = data["R"]
     Rd = R.applyfunc(dt)
     return R, _vee(matmul(Rd, R.T)), _vee(matmul(R.T, Rd))

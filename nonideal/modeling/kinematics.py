@@ -13,13 +13,18 @@ in N by the two-point and one-point theorems (Kane & Levinson 1985, ch. 2):
 velocity ``w``, acceleration ``alpha``).  Expressions are SymPy, in the model's symbols
 ``x``, ``x'``, ``x''`` and ``t``; each quantity is computed on first use and kept.
 
-Euler parameters (a frame given by ``quaternion``) keep their norm at one through an internal
-holonomic constraint ``e0^2 + e1^2 + e2^2 + e3^2 - 1 = 0`` named ``<frame>_norm`` (its
-multiplier is not a physical reaction), and the kinetic energy gains ``c/2 (e . e')^2``: this
-term and its Lagrange derivative vanish on the constraint (``e . e' = 0``,
-``e . e'' + e' . e' = 0``) and its generalized force ``c (e . e')' e`` lies along the
-constraint's gradient anyway, so the motion is unchanged, but the mass matrix becomes
-positive definite (the rotational energy alone is blind to the radial rate ``e . e'``).
+Euler parameters (a frame given by ``quaternion``) keep their norm at one with no constraint.
+The frame turns by the rotation of ``e/|e|`` (``R(e)/|e|^2``, angular velocity
+``2 (e0 e' - e0' e +- e x e')/|e|^2``), so every position, angular velocity and load is
+invariant under ``e -> k e`` and blind to the radial rate ``e . e'``: their generalized forces
+have no component along ``e``.  The kinetic energy gains ``c/2 (e . e')^2``, whose Lagrange
+derivative along ``e`` is ``c |e|^2 (e . e')'``: the equation of motion along ``e`` is
+``(e . e')' = 0``, so ``e . e'`` -- zero at t0, the initial rates are projected on the
+sphere -- stays zero and ``|e|`` stays one; the term itself vanishes on that motion, and it
+makes the mass matrix positive definite.  No multiplier is solved for: the motion is
+integrated like that of independent coordinates (faster than Euler angles on the heavy top:
+benchmarks/bench_euler_parameters.py), and a drift of ``|e|`` at the integrator's tolerance
+changes no physical quantity.
 """
 
 from __future__ import annotations

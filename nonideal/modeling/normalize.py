@@ -18,8 +18,7 @@ from .symbols import is_identifier
 
 from .quantities import base_units, with_units
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
-from .normalize_kinematics import (norm_constraints, normalize_kinematics, normalize_quaternion_initial,
-                                   resolve_body)
+from .normalize_kinematics import normalize_kinematics, normalize_quaternion_initial, resolve_body
 from .members import MemberExpansion
 from .high_order import MAX_ORDER, cost_problem, high_order_problem, initial_forces, normalize_controls
 from .speeds import finish_speeds_and_outputs, normalize_speeds
@@ -310,7 +309,7 @@ class Normalizer:
     def constraints(self) -> None:
         m = self.m
         out, names = [], set()
-        for c in norm_constraints(self.kinematics, m.constraints, self.problems):
+        for c in m.constraints:
             where = f"constraint '{c.name}'"
             if not isinstance(c.name, str) or not is_identifier(c.name):
                 self.problems.append(f"{where}: name must be an identifier (letters, digits, _)")
@@ -488,11 +487,16 @@ class Normalizer:
         self.problems += problems
         if m.independent is not None:
             ind = tuple(m.independent)
+            speeds = list(m.speeds or ())
             for name in ind:
-                if name not in m.coordinates:
+                if name not in m.coordinates and name not in speeds:
+                    what = "a coordinate or a speed" if speeds else "a coordinate"
+                    listed = "list coordinates or, for the quasi-velocity forms, speeds" if speeds \
+                        else "list coordinates"
                     self.problems.append(
-                        f"[forms] independent: '{name}' is not a coordinate"
-                        + did_you_mean(str(name), m.coordinates)
+                        f"[forms] independent: '{name}' is not {what}"
+                        + did_you_mean(str(name), list(m.coordinates) + speeds)
+                        + f"; {listed} ({', '.join(list(m.coordinates) + speeds)})"
                     )
             self.set("independent", ind)
         sim = m.simulation

@@ -2,7 +2,7 @@
 :class:`~nonideal.modeling.normalize.Normalizer`): every declaration checked and parsed, the
 :class:`~nonideal.modeling.kinematics.Kinematics` built, rigid bodies given by ``frame`` and
 ``center`` (particles by ``point``) resolved to positions, rotations and angular velocities,
-and the norm constraints of Euler parameters added.  Every problem is collected."""
+and the initial values of Euler parameters normalized.  Every problem is collected."""
 
 from __future__ import annotations
 
@@ -13,14 +13,13 @@ import sympy as sp
 
 from ..errors import did_you_mean
 from .bodies import Particle, RigidBody
-from .declarations import Constraint
 from .frames import FIXED, ORIGIN, Frame, parse_sequence
 from .kinematics import RESERVED_KINEMATIC_NAMES, Kinematics
 from .points import Point
 from .symbols import is_identifier, t
 from .values import identically_zero
 
-__all__ = ["normalize_kinematics", "resolve_body", "norm_constraints", "normalize_quaternion_initial",
+__all__ = ["normalize_kinematics", "resolve_body", "normalize_quaternion_initial",
            "NORM_TOLERANCE"]
 
 #: Euler parameters given at t0 whose norm differs from 1 by more than this are refused (closer,
@@ -229,24 +228,6 @@ def _known(norm, kin, kind: str, name, where: str) -> bool:
     return True
 
 
-def norm_constraints(kin: Kinematics | None, constraints: tuple, problems: list[str]) -> tuple:
-    """*constraints* with ``<frame>_norm: e0^2 + e1^2 + e2^2 + e3^2 - 1 = 0`` for every frame
-    given by Euler parameters (once: a model rebuilt from a normalized one already has it)."""
-    if kin is None:
-        return constraints
-    out = list(constraints)
-    for frame, e in kin.quaternions().items():
-        name = f"{frame}_norm"
-        expr = sp.Add(*[x**2 for x in e]) - 1
-        same = [c for c in out if c.name == name]
-        if same and not (isinstance(same[0].expr, sp.Basic) and sp.expand(same[0].expr - expr) == 0):
-            problems.append(f"constraint '{name}': the name is taken by the norm of frame '{frame}''s "
-                            "Euler parameters, which the library adds; rename the constraint")
-        elif not same:
-            out.append(Constraint.holonomic(name, expr))
-    return tuple(out)
-
-
 def normalize_quaternion_initial(kin: Kinematics | None, initial: dict, values: dict) -> tuple[dict, list[str]]:
     """Euler parameters given at t0, divided by their norm when it is within
     :data:`NORM_TOLERANCE` of one (values written with a few decimals, 0.7071); farther from
@@ -267,9 +248,39 @@ def normalize_quaternion_initial(kin: Kinematics | None, initial: dict, values: 
                 f"{names[0]} = 1, the others 0"
             problems.append(f"[initial] {', '.join(names)}: the Euler parameters of frame '{frame}' have "
                             f"norm {size:.12g}, not 1; give a unit quaternion, e.g. {hint}")
+            continue
         elif size != 1.0:
-            out.update({n: sp.Float(v / size, 17) for n, v in zip(names, vals)})
+            vals = [v / size for v in vals]
+            out.update({n: sp.Float(v, 17) for n, v in zip(names, vals)})
+        out.update(_tangent_rates(names, vals, initial, values))
     return out, problems
+
+
+def _tangent_rates(names: list[str], e: list[float], initial: dict, values: dict) -> dict:
+    """The rates e' of unit Euler parameters on their sphere, e . e' = 0: one missing completed
+    from it, all four given projected on it (their radial part changes nothing: the rotation
+    depends on e/|e| only).  None given, or several missing: left as they are (the speeds or
+    the constraints complete them, else the missing velocities are reported)."""
+    rates = {}
+    for n in names:
+        if n + "'" in initial:
+            try:
+                rates[n] = float(initial[n + "'"].xreplace(values))
+            except (TypeError, ValueError):
+                return {}
+    missing = [k for k, n in enumerate(names) if n not in rates]
+    ed = [rates.get(n, 0.0) for n in names]
+    radial = sum(a * b for a, b in zip(e, ed))
+    if len(missing) > 1:
+        return {}
+    if missing:
+        k = missing[0]
+        if abs(e[k]) < 1e-12:
+            return {}
+        ed[k] -= radial / e[k]
+    else:
+        ed = [b - a * radial for a, b in zip(e, ed)]
+    return {n + "'": sp.Float(v, 17) for n, v in zip(names, ed)}
 
 
 def describe(kin: Kinematics | None) -> list[str]:
@@ -282,7 +293,7 @@ def describe(kin: Kinematics | None) -> list[str]:
         if kind in ("body", "space"):
             how += " " + "".join("XYZ"[i] for i in data["axes"]) + f" ({', '.join(map(str, data['angles']))})"
         elif kind == "quaternion":
-            how = f"Euler parameters ({', '.join(map(str, data['e']))}; norm kept by '{name}_norm')"
+            how = f"Euler parameters ({', '.join(map(str, data['e']))}; unit norm kept by the library)"
         elif kind == "axis":
             how = f"about an axis by {data['angle']}"
         lines.append(f"frame {name}: from {parent}, {how}")

@@ -3,7 +3,8 @@
 A generalized speed (Kane & Levinson 1985, ch. 2; a quasi-velocity in Yushkov 1999, ch. IV) is
 an expression linear in the velocities, ``u = W(q, t) q' + w0(q, t)``.  Together with the
 derivatives of the holonomic constraints the speeds must determine every velocity (the
-stacked matrix ``[W; df/dq]`` has rank ``n_q``), and no speed may be a combination of the
+stacked matrix ``[W; df/dq]`` has rank ``n_q``; with Euler parameters, their radial rate
+``e . e'``, which the library holds at zero, counts too), and no speed may be a combination of the
 others (``W`` has full row rank).  Speed names may then be used in every later expression of
 the model: they stand for their definitions.
 
@@ -26,7 +27,7 @@ from ..errors import ExpressionError
 from .symbols import is_identifier
 from .values import parameter_values, to_expr
 
-__all__ = ["normalize_speeds", "normalize_outputs", "check_speed_set", "speed_matrix",
+__all__ = ["normalize_speeds", "normalize_outputs", "check_speed_set", "speed_matrix", "radial_rows", "radial_indices", "on_unit_sphere",
            "finish_speeds_and_outputs", "OUTPUT_SPECIAL"]
 
 OUTPUT_SPECIAL = ("T", "V")   # the kinetic and potential energies in an output expression
@@ -111,7 +112,8 @@ def check_speed_set(model, samples: int = 2, seed: int = 5) -> list[str]:
     q, qd = list(model.q), list(model.qd)
     hol = [c for c in model.constraints if c.order == 0 and not c.unilateral and c.kind != "servo"]
     Gh = sp.Matrix([[sp.diff(c.expr, v) for v in q] for c in hol]) if hol else sp.zeros(0, len(q))
-    stacked = W.col_join(Gh)
+    radial = radial_rows(model)
+    stacked = W.col_join(Gh).col_join(radial) if radial.rows else W.col_join(Gh)
     params = {sp.Symbol(str(k)): float(v) for k, v in parameter_values(model.parameters).items()}
     rng = random.Random(seed)
     fn = sp.lambdify(q + [sp.Symbol("t")] + list(params), stacked, modules="numpy")
@@ -140,11 +142,48 @@ def check_speed_set(model, samples: int = 2, seed: int = 5) -> list[str]:
         missing = [str(qd[j]) for j in range(len(q)) if np.abs(null[:, j]).max() > 1e-8]
         with_h = (" together with the derivatives of the holonomic constraints "
                   + ", ".join(f"'{c.name}'" for c in hol)) if hol else ""
+        if radial.rows:
+            with_h += " and the unit norm of the Euler parameters"
         problems.append(
             f"[speeds]: the speeds {', '.join(names)}{with_h} do not determine the velocities "
             f"{', '.join(missing)} ({rank} of {len(q)} determined); add a speed that involves "
             f"{' or '.join(missing)} (e.g. {missing[0]} itself)")
     return problems
+
+
+def radial_indices(model) -> list[list[int]]:
+    """The coordinate indices of the Euler parameters of each frame given by them."""
+    kin = model.__dict__.get("_kinematics")
+    q = list(model.q)
+    return [[q.index(x) for x in e] for e in (kin.quaternions().values() if kin is not None else ())
+            if all(x in q for x in e)]
+
+
+def on_unit_sphere(model, q, qd) -> tuple[np.ndarray, np.ndarray]:
+    """The state ``(q, q')`` with every frame's Euler parameters divided by their norm and
+    their rates made tangent (``e . e' = 0``): the same rotation and angular velocity (they
+    depend on ``e/|e|`` only), on the manifold the motion keeps."""
+    q, qd = np.array(q, dtype=float), np.array(qd, dtype=float)
+    for idx in radial_indices(model):
+        size = float(np.linalg.norm(q[idx]))
+        if size > 0:
+            q[idx] /= size
+            qd[idx] = (qd[idx] - q[idx] * float(q[idx] @ qd[idx])) / size
+    return q, qd
+
+
+def radial_rows(model) -> sp.Matrix:
+    """One row per frame given by Euler parameters: the coefficients of the radial rate
+    ``e . e'`` in the velocities (``e`` in the columns of its coordinates).  The rotation is
+    that of ``e/|e|``, so no speed written through the frames involves this rate; the library
+    holds it at zero (:mod:`nonideal.modeling.kinematics`), and it counts with the speeds."""
+    kin = model.__dict__.get("_kinematics")
+    q = list(model.q)
+    rows = []
+    for e in (kin.quaternions().values() if kin is not None else ()):
+        if all(x in q for x in e):
+            rows.append([x if x in e else 0 for x in q])
+    return sp.Matrix(rows) if rows else sp.zeros(0, len(q))
 
 
 def normalize_outputs(norm) -> None:

@@ -136,16 +136,34 @@ def add(vectors: Sequence[Vector]) -> Vector:
     return Vector([sp.Add(*[v.components[i] for v in vectors]) for i in range(3)], local)
 
 
+def _mul(x, y):
+    """``x * y`` with the zero and unit factors of unit vectors skipped: SymPy's ``0 * e``
+    asks whether ``e`` is infinite, which walks a large ``e`` through the assumptions."""
+    if x == 0 or y == 0:
+        return sp.Integer(0)
+    if x == 1:
+        return y
+    if y == 1:
+        return x
+    return x * y
+
+
+def _sum(terms):
+    terms = [t for t in terms if t != 0]
+    return sp.Add(*terms) if terms else sp.Integer(0)
+
+
 def dot(a: Vector, b: Vector) -> sp.Expr:
     """The scalar product (formed in the frame both vectors are expressed in, when they share one)."""
     if a._same_frame(b) is not None:
-        return sp.Add(*[x * y for x, y in zip(a.local[1], b.local[1])])
-    return sp.Add(*[x * y for x, y in zip(a.components, b.components)])
+        return _sum([_mul(x, y) for x, y in zip(a.local[1], b.local[1])])
+    return _sum([_mul(x, y) for x, y in zip(a.components, b.components)])
 
 
 def _cross3(a, b):
     (a1, a2, a3), (b1, b2, b3) = a, b
-    return (a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1)
+    return (_sum([_mul(a2, b3), -_mul(a3, b2)]), _sum([_mul(a3, b1), -_mul(a1, b3)]),
+            _sum([_mul(a1, b2), -_mul(a2, b1)]))
 
 
 def cross(a: Vector, b: Vector) -> Vector:

@@ -289,7 +289,7 @@ class ModeSolver:
         Lagrange II changes charts after the evaluation (:meth:`_solve_on_chart`)."""
         key = mode.structure
         fs = self._active.get(key) or self.form_system(mode)
-        if self.independent is not None or not fs.eom.eliminated or not self.route.repartition:
+        if self.independent is not None or not fs.eom.eliminated or not self.route.repartition or fs.eom.speeds:
             self._active[key] = fs
             return fs
         ideal = self._eliminated_rows(mode, fs, layout)

@@ -229,13 +229,19 @@ def complete_state(kernel: Kernel, given: Mapping[str, float], params: np.ndarra
     # ---- velocities
     vel_eq = [i for i in equality if levels.has_velocity[i]]
     if speeds:
+        from ..modeling.speeds import radial_indices
         from .speeds import velocities_from_speeds
+
+        radial = radial_indices(model)   # Euler parameters: e . e' = 0 with the speeds
 
         def constraint_rows(v):
             G, _, vel = levels(t0, q, v)
-            return G[vel_eq], vel[vel_eq]
+            E = np.zeros((len(radial), len(q)))
+            for k, idx in enumerate(radial):
+                E[k, idx] = q[idx]
+            return np.vstack([G[vel_eq], E]), np.concatenate([vel[vel_eq], E @ v])
         qd, miss_v = velocities_from_speeds(model, speeds, params, t0, q, qd, miss_v,
-                                            constraint_rows if vel_eq else None, _src(model))
+                                            constraint_rows if vel_eq or radial else None, _src(model))
     _, qd, _ = _newton(levels, vel_eq, miss_v, t0, q, qd, "vel")
     if miss_v and not _determined(levels, vel_eq, miss_v, t0, q, qd):
         found = False

@@ -59,10 +59,18 @@ def test_euler_parameters_far_from_unit_norm_are_refused():
     assert "norm 2" in msg and "e0 = 1" in msg
 
 
-def test_the_norm_constraint_is_added_once():
+def test_no_constraint_and_radial_rates_projected():
+    """|e| is kept with no constraint; given rates with a radial part are projected on the
+    sphere (e . e' = 0), a missing one is completed from it."""
     model = gallery.load(hep.NAME)
-    again = model.replace()
-    assert [c.name for c in again.constraints] == ["B_norm"]
+    assert model.constraints == ()
+    m = model.replace(initial={**model.initial, "e0'": 0.4})
+    assert float(m.initial["e0'"]) == 0.0 and float(m.initial["e3'"]) == 5.0
+    start = {k: v for k, v in model.initial.items() if k != "e0'"}
+    tilted = model.replace(initial={**start, "e0": 0.6, "e1": 0.8, "e1'": 0.3})
+    e = np.array([float(tilted.initial[f"e{i}"]) for i in range(4)])
+    ed = np.array([float(tilted.initial[f"e{i}'"]) for i in range(4)])
+    assert abs(e @ ed) < 1e-15 and ed[1] == 0.3
 
 
 def test_euler_parameters_written_with_few_decimals_are_normalized():
@@ -70,3 +78,43 @@ def test_euler_parameters_written_with_few_decimals_are_normalized():
     m = model.replace(initial={**model.initial, "e0": 0.7071, "e1": 0.7071, "e1'": 0.0})
     e = [float(m.initial[f"e{i}"]) for i in range(4)]
     assert abs(np.linalg.norm(e) - 1) < 1e-15 and e[0] == pytest.approx(np.sqrt(0.5), rel=1e-15)
+
+
+def test_off_the_unit_sphere_the_motion_is_that_of_e_over_its_norm():
+    """The frame turns by the rotation of e/|e|: at a state with |e| = 1.7 and a radial rate,
+    Lagrange I gives (e . e')' = 0 along e, and the tangential accelerations of the state
+    scaled to the unit sphere (e -> e/|e|, e' -> tangent part / |e|), scaled back -- the
+    same rotation and angular velocity; the body angular acceleration agrees."""
+    from nonideal.modes.solver import ModeSolver
+    from nonideal.modes.types import Mode
+    from nonideal.numeric.kernel import kernel_of, parameter_vector
+
+    model = gallery.load(hep.NAME)
+    solver = ModeSolver(kernel_of(model), parameter_vector(model), "lagrange1")
+
+    def accelerations(x, xd):
+        return solver.solve(0.0, x, xd, Mode()).qdd
+
+    rng = np.random.default_rng(3)
+    e = rng.standard_normal(4)
+    e *= 1.7 / np.linalg.norm(e)
+    ed = rng.standard_normal(4)                      # with a radial part
+    edd = accelerations(e, ed)
+    assert e @ edd + ed @ ed == pytest.approx(0, abs=1e-12)   # (e . e')' = 0
+
+    k = np.linalg.norm(e)
+    u, ud = e / k, (ed - e * (e @ ed) / k**2) / k     # the same rotation and angular velocity
+    np.testing.assert_allclose(hep.body_rate(u, ud), 2 * _rate(e, ed) / k**2, rtol=1e-12)
+    udd = accelerations(u, ud)
+    # body angular acceleration 2 G(u) u'' (G(u) u' = 0 on the sphere's tangent) against the
+    # derivative of 2 G(e) e'/|e|^2 along (e', e'')
+    h = 1e-6
+    def w(x, xd):
+        return 2 * _rate(x, xd) / (x @ x)
+    wdot = (w(e + h * ed, ed + h * edd) - w(e - h * ed, ed - h * edd)) / (2 * h)
+    np.testing.assert_allclose(2 * _rate(u, udd), wdot, rtol=1e-7, atol=1e-7)
+
+
+def _rate(e, ed):
+    """``G(e) e'``: e0 e' - e0' e - e x e' (vector part), the body rate of unit parameters / 2."""
+    return e[0] * ed[1:] - ed[0] * e[1:] - np.cross(e[1:], ed[1:])

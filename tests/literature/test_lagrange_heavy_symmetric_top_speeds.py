@@ -18,7 +18,7 @@ def model():
     return gallery.load("heavy-symmetric-top-speeds")
 
 
-@pytest.mark.parametrize("form", ["kane", "boltzmann_hamel", "poincare_chetaev"])
+@pytest.mark.parametrize("form", ["kane", "boltzmann_hamel", "poincare_chetaev", "appell"])
 def test_eulers_equations_in_euler_parameters(model, form):
     eom = derive(model, form)
     assert eom.unknowns == ("w1'", "w2'", "w3'")
@@ -63,3 +63,28 @@ def test_a_vector_output_gives_its_components_in_N():
     hb = np.array([0.0, (A + m_ * l * l) * 2.0, C * 40.0])
     R = np.array([[1, 0, 0], [0, np.cos(th0), -np.sin(th0)], [0, np.sin(th0), np.cos(th0)]])
     assert [out["H.x"], out["H.y"], out["H.z"]] == pytest.approx(list(R @ hb), abs=1e-12)
+
+
+def test_no_constraint_the_radial_rate_completes_the_speeds(model):
+    """No constraint is added for the Euler parameters: the three angular speeds determine
+    the four rates with e . e' = 0 (the initial rates from the speeds are tangent), and the
+    quasi-velocity forms hold the radial rate at zero themselves (their note says so)."""
+    assert model.constraints == ()
+    eom = derive(model, "kane")
+    assert any("radial rate of frame B" in n for n in eom.notes)
+    from nonideal import evaluate
+
+    ev = evaluate(model)
+    e = np.array([ev.q[i] for i in range(4)])
+    ed = np.array([ev.qd[i] for i in range(4)])
+    assert abs(e @ ed) < 1e-14 and np.linalg.norm(ed) > 1.0
+    # the speeds given at t0 are the body components of the angular velocity of e'
+    w = 2 * (e[0] * ed[1:] - ed[0] * e[1:] - np.cross(e[1:], ed[1:]))
+    np.testing.assert_allclose(w, [0.0, 2.0, 40.0], atol=1e-12)
+    # the speeds are blind to the radial rate: a fourth angular speed is dependent, it
+    # cannot stand for e . e'
+    from nonideal.errors import ModelError
+
+    with pytest.raises(ModelError, match="w1, w2, w3, w4 are linearly dependent"):
+        model.replace(speeds={"w1": "dot(omega(B), B.x)", "w2": "dot(omega(B), B.y)",
+                              "w3": "dot(omega(B), B.z)", "w4": "dot(omega(B), N.z)"})

@@ -36,8 +36,11 @@ def test_w2_tends_to_the_limit_s():
     assert abs(tr.speeds["w1"][-1]) < 1e-5
 
 
-def test_kane_prints_eulers_equations(model):
-    eom = derive(model, "kane")
+@pytest.mark.parametrize("form", ["kane", "appell"])
+def test_kane_prints_eulers_equations(model, form):
+    """Kane's equations, and Gibbs-Appell's in the declared speeds (the acceleration energy
+    written in w1', w2')."""
+    eom = derive(model, form)
     assert eom.unknowns == ("w1'", "w2'")
     assert eom.readable() == ["J1*w1' + a*w1*w2 = 0", "J2*w2' - a*w1**2 = 0"]
     assert "suslov" in eom.eliminated

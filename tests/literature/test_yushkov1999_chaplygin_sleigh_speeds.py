@@ -18,7 +18,7 @@ def model():
     return gallery.load("chaplygin-sleigh-speeds")
 
 
-@pytest.mark.parametrize("form", ["kane", "boltzmann_hamel", "poincare_chetaev"])
+@pytest.mark.parametrize("form", ["kane", "boltzmann_hamel", "poincare_chetaev", "appell"])
 def test_quasi_velocity_forms_print_the_sleigh_equations(model, form):
     eom = derive(model, form)
     assert eom.unknowns == ("v'", "w'")

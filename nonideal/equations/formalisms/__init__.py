@@ -56,6 +56,21 @@ FORMS: dict[str, type[Formalism]] = {
 }
 
 
+def split_independent(model, names) -> tuple[tuple[str, ...] | None, tuple[str, ...] | None]:
+    """``(speeds, coordinates)`` of an ``independent`` list of a model with ``[speeds]``: the
+    speed names (a coordinate whose velocity is itself a declared speed stands for it), in the
+    list's order, and the coordinate names; None for an empty part."""
+    own = {}
+    for name, e in model.speeds.items():   # speeds that are a coordinate's velocity
+        for q, qd in zip(model.coordinates, model.qd):
+            if e == qd:
+                own.setdefault(q, name)
+    speeds = tuple(dict.fromkeys(n if n in model.speeds else own[n] for n in names
+                                 if n in model.speeds or n in own))
+    coords = tuple(n for n in names if n not in model.speeds)
+    return speeds or None, coords or None
+
+
 def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | None = None,
            independent: tuple[str, ...] | None = None,
            branch: dict[str, float] | None = None) -> EquationsOfMotion:
@@ -71,7 +86,8 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
         taken as active).  The hybrid simulation passes the rows of the current mode.
     independent : tuple of str, optional
         Independent coordinates for the reduced forms (default: the model's ``independent``,
-        else a sparse, well-conditioned choice).
+        else a sparse, well-conditioned choice); with declared speeds, speed names too: the
+        speeds the quasi-velocity forms keep first (:func:`split_independent`).
     branch : dict name -> float, optional
         Lagrange II only: the coordinates through which the roots of the holonomic
         constraints are chosen (default: the model's initial state).  The hybrid simulation
@@ -100,6 +116,8 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
     if independent is None:
         independent = model.independent
     formalism = FORMS[form]()
+    if independent is not None and model.speeds:   # speed names for the speed forms
+        formalism.speed_order, independent = split_independent(model, independent)
     if branch is not None:
         formalism.branch = dict(branch)
     eom = formalism.derive(dyn, list(rows), independent)

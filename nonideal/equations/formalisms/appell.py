@@ -17,6 +17,12 @@ by Chetaev's rule) disappear; non-ideal ones (servo, quasi-ideal, sliding fricti
 their multipliers and rows ``G V p' + G w + gamma = 0`` exactly as in Maggi's form
 (``project_rows``).
 
+With declared ``[speeds]`` the quasi-velocities are the speeds (Appell's own use for a rigid
+body: the body components of its angular velocity): ``q'' = Phi p' + r`` with the partial
+velocities ``Phi`` of :func:`~.quasi.partial_velocities`, ``S'(p')`` written in the speeds and
+``Pi = Phi^T Q`` -- a rigid body prints Euler's equations.  When ``Phi`` is too large to write
+explicitly, the accelerations of the independent coordinates are taken as above.
+
 Code names: ``S`` in ``extras`` is ``S'`` (printed when small), ``A = d2S'/dp'2``,
 ``c = dS'/dp'|_{p'=0}``, ``Q_f = Pi = V^T Q`` (generalized forces of the quasi-velocities).
 
@@ -32,7 +38,7 @@ import symengine as se
 from ..dynamics import count_ops
 from ..eom import EquationsOfMotion
 from .base import Formalism, project_rows, reduce_velocities, split_rows, transpose_times
-from .quasi import fold_matrix, norm_reducer
+from .quasi import ADJUGATE_MAX, Reduced, fold_matrix, norm_reducer, partial_velocities
 
 __all__ = ["Appell", "reduced_acceleration_energy"]
 
@@ -62,6 +68,10 @@ class Appell(Formalism):
 
     def derive(self, dyn, rows, independent):
         ideal, kept = split_rows(rows)
+        if dyn.model.speeds:
+            pv = partial_velocities(dyn, ideal, independent, self.name, self.speed_order)
+            if pv.subs:   # explicit: the equations in the declared speeds
+                return self._in_speeds(dyn, rows, ideal, kept, pv)
         red = reduce_velocities(dyn, ideal, independent)
         n, k = dyn.n, len(red.independent)
         p = [dyn.qdd[j] for j in red.independent]
@@ -100,4 +110,45 @@ class Appell(Formalism):
             A_=A, c_=c, Qf_=Qf, B_=B, G_=G, gamma_=gamma, R_=red.V, r_=red.w,
             auxiliaries=red.auxiliaries, extras_=extras, notes=tuple(notes),
             eliminated=tuple(r.name for r in ideal),
+        )
+
+    def _in_speeds(self, dyn, rows, ideal, kept, pv):
+        """The Gibbs--Appell equations in the declared speeds (see the module docstring)."""
+        basis, Phi, r = pv.basis, pv.Phi, pv.r
+        n, k = dyn.n, basis.k
+        p = basis.accelerations()
+        subs = {dyn.qdd[i]: sum((Phi[i, c] * p[c] for c in range(k) if Phi[i, c] != 0), se.Integer(0)) + r[i, 0]
+                for i in range(n)}
+        S = se.sympify(dyn.S).subs(subs).subs(pv.subs)
+        grad = [se.diff(S, pj) for pj in p]
+        zero = {pj: se.Integer(0) for pj in p}
+        A, c = se.zeros(k, k), se.zeros(k, 1)
+        for i in range(k):
+            c[i, 0] = grad[i].subs(zero)
+            for j in range(i, k):
+                A[i, j] = A[j, i] = se.diff(grad[i], p[j])
+        Qf = transpose_times(Phi, dyn.Q, n, k)
+        G, gamma, B = project_rows(kept, Reduced(Phi, r), n)
+        reduce = norm_reducer(dyn.model)
+        # expanded first: S in the speeds carries products that cancel term by term (a fold of
+        # the unexpanded expression would exceed its size budget)
+        A, c, Qf, R, rr, G, gamma, B = [fold_matrix(M_.subs(pv.subs).applyfunc(se.expand) if n <= ADJUGATE_MAX
+                                                    else M_.subs(pv.subs), reduce, n)
+                                        for M_ in (A, c, Qf, Phi, r, G, gamma, B)]
+        notes = [basis.note() + " (the quasi-velocities; p' their derivatives)"]
+        if ideal:
+            notes.append("eliminated (no part along the partial velocities): " + ", ".join(r_.name for r_ in ideal))
+        if kept:
+            notes.append("multipliers kept for the non-ideal constraints " + ", ".join(r_.name for r_ in kept))
+        extras = {}
+        S_shown = fold_matrix(se.Matrix([[S - S.subs(zero)]]), reduce, n)[0, 0]   # up to terms without p'
+        if count_ops([S_shown]) <= PRINT_MAX_OPS:
+            extras["S"] = S_shown
+        return EquationsOfMotion(
+            form=self.name, title=self.title, citation=self.citation, model=dyn.model,
+            unknowns=basis.unknowns, multipliers=tuple(f"lambda_{r_.name}" for r_ in kept),
+            constraint_names=tuple(r_.name for r_ in kept), rows=tuple(rows), independent=basis.names,
+            A_=A, c_=c, Qf_=Qf, B_=B, G_=G, gamma_=gamma, R_=R, r_=rr,
+            auxiliaries=basis.auxiliaries(), extras_=extras, notes=tuple(notes),
+            eliminated=tuple(r_.name for r_ in ideal), speeds=basis.names,
         )

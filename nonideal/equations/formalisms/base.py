@@ -41,6 +41,9 @@ class Formalism:
     title: str = ""
     citation: str = ""
     branch: dict[str, float] | None = None   # Lagrange II: where to pick the constraints' roots
+    #: the declared speeds ``[forms] independent`` names, in its order (the quasi-velocity forms
+    #: keep them first); the other names of that list are the coordinates ``derive`` receives
+    speed_order: tuple[str, ...] | None = None
 
     def derive(self, dyn: Dynamics, rows: list[ConstraintRow],
                independent: tuple[str, ...] | None) -> EquationsOfMotion:
@@ -294,6 +297,8 @@ def partition(dyn: Dynamics, rows: list[ConstraintRow],
     coords = list(dyn.model.coordinates)
     if not rows:
         return [], list(range(dyn.n))
+    if independent is not None and dyn.model.speeds:   # speed names are the speed forms' choice
+        independent = tuple(c for c in independent if c not in dyn.model.speeds) or None
     if independent is not None:
         bad = [c for c in independent if c not in coords]
         if bad:

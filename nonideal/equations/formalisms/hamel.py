@@ -30,9 +30,8 @@ from __future__ import annotations
 import symengine as se
 
 from ..dynamics import count_ops
-from ..eom import EquationsOfMotion
-from .base import Formalism, project_rows, split_rows
-from .quasi import Reduced, assemble, fold_trig, quasi_lagrangian, speed_basis
+from .base import Formalism
+from .quasi import fold_trig, norm_reducer, quasi_equations
 
 __all__ = ["BoltzmannHamel", "hamel_coefficients"]
 
@@ -43,6 +42,7 @@ def hamel_coefficients(dyn, ql):
     n, kk = dyn.n, ql.basis.k
     W, w, Phi, phi0 = ql.basis.W, ql.basis.w, ql.Phi, ql.phi0
     out = {}
+    reduce = norm_reducer(dyn.model) or (lambda x: x)
     for k in range(n):
         # curl[j][i] = dW_kj/dq_i - dW_ki/dq_j
         curl = [[se.diff(W[k, j], dyn.q[i]) - se.diff(W[k, i], dyn.q[j]) for i in range(n)] for j in range(n)]
@@ -62,7 +62,7 @@ def hamel_coefficients(dyn, ql):
                         if curl[j][i] != 0 and vec[i, col] != 0:
                             acc += curl[j][i] * Phi[j, r] * vec[i, col]
                 if acc != 0:
-                    acc = fold_trig(acc)
+                    acc = fold_trig(reduce(acc))
                     if acc != 0:
                         out[(k, r, s)] = acc
     return out
@@ -75,37 +75,22 @@ class BoltzmannHamel(Formalism):
                 "+ sum dT*/du_k gamma^k_rs u_s = Pi_r")
 
     def derive(self, dyn, rows, independent):
-        ideal, kept = split_rows(rows)
-        basis = speed_basis(dyn, ideal, independent, self.name)
-        ql = quasi_lagrangian(dyn, basis, ideal, self.name)
-        n, k = dyn.n, basis.k
-        gamma = hamel_coefficients(dyn, ql)
-        speeds = basis.symbols
-        lhs = []
-        for r in range(k):
-            e = ql.ddt(dyn, ql.dT[r])
-            e -= sum((ql.Phi[j, r] * se.diff(ql.Tstar, dyn.q[j]) for j in range(n) if ql.Phi[j, r] != 0),
-                     se.Integer(0))
-            for (kk, rr, s), g in gamma.items():
-                if rr == r:
-                    e += ql.dT[kk] * g * (speeds[s] if s is not None else 1)
-            lhs.append(e.subs(ql.on_motion))
-        A, c = assemble(dyn, ql, lhs)
-        G, gam, B = project_rows(kept, Reduced(ql.R, ql.r), n)
-        extras = {}
-        labels = list(basis.names) + [f"sigma[{r_.name}]" for r_ in ideal]
-        shown = {f"gamma^{labels[kk]}_{basis.names[r]},{basis.names[s] if s is not None else 0}": g
-                 for (kk, r, s), g in gamma.items()}
-        if shown and count_ops(list(shown.values())) <= 300:
-            extras["Hamel coefficients"] = "; ".join(f"{key} = {val}" for key, val in shown.items())
-        notes = [basis.note(), "T* = T with q' = Phi u + phi0 (u: the speeds and the constraints' "
-                 "combinations sigma, zero on the motion)"]
-        return EquationsOfMotion(
-            form=self.name, title=self.title, citation=self.citation, model=dyn.model,
-            unknowns=basis.unknowns, multipliers=tuple(f"lambda_{r_.name}" for r_ in kept),
-            constraint_names=tuple(r_.name for r_ in kept), rows=tuple(rows), independent=basis.names,
-            A_=A, c_=c, Qf_=ql.Pi,
-            B_=B, G_=G, gamma_=gam, R_=ql.R, r_=ql.r, auxiliaries=basis.auxiliaries(), extras_=extras,
-            notes=tuple(notes), eliminated=tuple(r_.name for r_ in ideal),
-            speeds=basis.names if basis.declared else (),
-        )
+        return quasi_equations(self, dyn, rows, independent, hamel_coefficients, _term, _describe)
+
+
+def _term(ql, gamma, r):
+    """``sum_k dT*/du_k (sum_s gamma^k_rs u_s + gamma^k_r0)``."""
+    speeds = ql.basis.symbols
+    return sum((ql.dT[kk] * g * (speeds[s] if s is not None else 1)
+                for (kk, rr, s), g in gamma.items() if rr == r), se.Integer(0))
+
+
+def _describe(ql, gamma, labels):
+    names = ql.basis.names
+    shown = {f"gamma^{labels[kk]}_{names[r]},{names[s] if s is not None else 0}": g
+             for (kk, r, s), g in gamma.items()}
+    extras = {}
+    if shown and count_ops(list(shown.values())) <= 300:
+        extras["Hamel coefficients"] = "; ".join(f"{key} = {val}" for key, val in shown.items())
+    return extras, ["T* = T with q' = Phi u + phi0 (u: the speeds and the constraints' "
+                    "combinations sigma, zero on the motion)"]

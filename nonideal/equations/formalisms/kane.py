@@ -27,9 +27,9 @@ from __future__ import annotations
 
 import symengine as se
 
-from ..eom import Auxiliary, EquationsOfMotion
+from ..eom import EquationsOfMotion
 from .base import Formalism, project_rows, quadratic_form, split_rows, transpose_times
-from .quasi import Reduced, fold_matrix, invert, norm_reducer, speed_basis
+from .quasi import Reduced, fold_matrix, norm_reducer, partial_velocities
 
 __all__ = ["Kane"]
 
@@ -42,29 +42,9 @@ class Kane(Formalism):
 
     def derive(self, dyn, rows, independent):
         ideal, kept = split_rows(rows)
-        basis = speed_basis(dyn, ideal, independent, self.name)
+        pv = partial_velocities(dyn, ideal, independent, self.name, self.speed_order)
+        basis, Phi, r, subs, aux = pv.basis, pv.Phi, pv.r, pv.subs, pv.auxiliaries
         n, k = dyn.n, basis.k
-        b = [dyn.dt(d, with_acceleration=False) for d in basis.definitions] + [r.gamma for r in ideal]
-        cols = [[se.Integer(1 if i == c else 0) for i in range(n)] for c in range(k)]
-        cols.append([-basis.w[i, 0] for i in range(n)])
-        cols.append([-x for x in b])
-        X = invert(basis, dyn, self.name, cols)
-        aux: tuple = ()
-        coords = dyn.model.coordinates
-        if X is None:   # too large to write: partial velocities solved numerically
-            syms = [[se.Symbol(f"Phi[{coords[i]},{basis.names[c]}]") for c in range(k)]
-                    + [se.Symbol(f"r[{coords[i]}]")] for i in range(n)]
-            Y = se.Matrix([[cols[c][i] for c in range(k)] + [cols[k + 1][i]] for i in range(n)])
-            aux = (Auxiliary(se.Matrix(syms), basis.W, Y,
-                             "partial velocities Phi[q,p] and r[q] solve W [Phi | r] = [E_p | -(W' q' + w')]"),)
-            Phi = se.Matrix([row[:k] for row in syms])
-            r = se.Matrix([[row[k]] for row in syms])
-            subs = {}
-        else:
-            Phi = se.Matrix([[X[i][c] for c in range(k)] for i in range(n)])
-            r = se.Matrix([[X[i][k + 1]] for i in range(n)])
-            subs = {dyn.qd[i]: sum((X[i][c] * basis.symbols[c] for c in range(k)), se.Integer(0)) + X[i][k]
-                    for i in range(n)}
         A, _ = quadratic_form(Phi, dyn.M, n, k)
         Mr_h = se.zeros(n, 1)
         for i in range(n):

@@ -33,9 +33,8 @@ from __future__ import annotations
 import symengine as se
 
 from ..dynamics import count_ops
-from ..eom import EquationsOfMotion
-from .base import Formalism, project_rows, split_rows
-from .quasi import Reduced, assemble, fold_trig, quasi_lagrangian, speed_basis
+from .base import Formalism
+from .quasi import fold_trig, norm_reducer, quasi_equations
 
 __all__ = ["PoincareChetaev", "structure_coefficients"]
 
@@ -65,6 +64,7 @@ def structure_coefficients(dyn, ql, on_motion: bool = True):
         return out
 
     out = {}
+    reduce = norm_reducer(dyn.model) or (lambda x: x)
     for b in range(kk):
         for a in list(range(kk)) + [None]:
             if a == b:
@@ -75,7 +75,7 @@ def structure_coefficients(dyn, ql, on_motion: bool = True):
             for k in range(n):
                 c = sum((W[k, m] * br[m] for m in range(n) if W[k, m] != 0 and br[m] != 0), se.Integer(0))
                 if c != 0:
-                    c = fold_trig(c)
+                    c = fold_trig(reduce(c))
                     if c != 0:
                         out[(k, a, b)] = c
     return out
@@ -88,42 +88,24 @@ class PoincareChetaev(Formalism):
                 "d/dt dT*/du_r - X_r(T*) - sum c^k_sr u_s dT*/du_k = Pi_r")
 
     def derive(self, dyn, rows, independent):
-        ideal, kept = split_rows(rows)
-        basis = speed_basis(dyn, ideal, independent, self.name)
-        ql = quasi_lagrangian(dyn, basis, ideal, self.name)
-        n, k = dyn.n, basis.k
-        coeff = structure_coefficients(dyn, ql)
-        speeds = basis.symbols
-        lhs = []
-        for r in range(k):
-            e = ql.ddt(dyn, ql.dT[r])
-            e -= sum((ql.Phi[j, r] * se.diff(ql.Tstar, dyn.q[j]) for j in range(n) if ql.Phi[j, r] != 0),
-                     se.Integer(0))
-            for (kk, a, b), c in coeff.items():
-                if b == r:
-                    e -= c * (speeds[a] if a is not None else 1) * ql.dT[kk]
-            lhs.append(e.subs(ql.on_motion))
-        A, c = assemble(dyn, ql, lhs)
-        G, gam, B = project_rows(kept, Reduced(ql.R, ql.r), n)
-        labels = list(basis.names) + [f"sigma[{r_.name}]" for r_ in ideal]
-        shown = {}
-        for (kk, a, b), val in coeff.items():
-            if a is None or a < b:
-                shown[f"c^{labels[kk]}_{basis.names[a] if a is not None else 0},{basis.names[b]}"] = \
-                    val.subs(ql.on_motion)
-        extras = {}
-        if shown and count_ops(list(shown.values())) <= 400:
-            extras["structure coefficients"] = "; ".join(f"{key} = {val}" for key, val in shown.items()) \
-                + " (c^k_ba = -c^k_ab)"
-        elif not shown:
-            extras["structure coefficients"] = "all zero (the speeds' vector fields commute)"
-        notes = [basis.note(), "X_a: the columns of Phi, q' = Phi u + phi0; T* = T in the speeds"]
-        return EquationsOfMotion(
-            form=self.name, title=self.title, citation=self.citation, model=dyn.model,
-            unknowns=basis.unknowns, multipliers=tuple(f"lambda_{r_.name}" for r_ in kept),
-            constraint_names=tuple(r_.name for r_ in kept), rows=tuple(rows), independent=basis.names,
-            A_=A, c_=c, Qf_=ql.Pi,
-            B_=B, G_=G, gamma_=gam, R_=ql.R, r_=ql.r, auxiliaries=basis.auxiliaries(), extras_=extras,
-            notes=tuple(notes), eliminated=tuple(r_.name for r_ in ideal),
-            speeds=basis.names if basis.declared else (),
-        )
+        return quasi_equations(self, dyn, rows, independent, structure_coefficients, _term, _describe)
+
+
+def _term(ql, coeff, r):
+    """``- sum_{s,k} c^k_sr u_s dT*/du_k - sum_k c^k_0r dT*/du_k``."""
+    speeds = ql.basis.symbols
+    return -sum((c * (speeds[a] if a is not None else 1) * ql.dT[kk]
+                 for (kk, a, b), c in coeff.items() if b == r), se.Integer(0))
+
+
+def _describe(ql, coeff, labels):
+    names = ql.basis.names
+    shown = {f"c^{labels[kk]}_{names[a] if a is not None else 0},{names[b]}": val.subs(ql.on_motion)
+             for (kk, a, b), val in coeff.items() if a is None or a < b}
+    extras = {}
+    if shown and count_ops(list(shown.values())) <= 400:
+        extras["structure coefficients"] = "; ".join(f"{key} = {val}" for key, val in shown.items()) \
+            + " (c^k_ba = -c^k_ab)"
+    elif not shown:
+        extras["structure coefficients"] = "all zero (the speeds' vector fields commute)"
+    return extras, ["X_a: the columns of Phi, q' = Phi u + phi0; T* = T in the speeds"]

@@ -17,6 +17,13 @@ and on the motion (``sigma = 0``) ``q' = Phi_p p + phi0``, ``q'' = Phi_p p' + r`
 (ch. 3, the coefficients of the speeds in the velocities).  The results are written in the
 speeds: ``q'`` is replaced by ``Phi_p p + phi0`` and the speeds are auxiliary symbols
 evaluated from the state (``p = W_p q' + w_p``).
+
+Euler parameters: the frame turns by the rotation of ``e/|e|`` (:mod:`nonideal.modeling.kinematics`),
+so declared speeds (three angular ones) are blind to the radial rate ``e . e'``.  When the
+declared speeds leave it undetermined, the radial rate of each such frame is taken as one more
+combination ``sigma`` (:func:`radial_rows`: ``e . e' = 0`` with ``(e . e')' = 0``, the equation
+the regularized kinetic energy gives the other forms): its reaction has no part along the
+partial velocities, and ``q'' = Phi_p p' + r`` keeps ``|e|`` constant.
 """
 
 from __future__ import annotations
@@ -27,11 +34,13 @@ import numpy as np
 import symengine as se
 
 from ..dynamics import count_ops
-from ..eom import Auxiliary
+from ..eom import Auxiliary, EquationsOfMotion
 from ...errors import FormNotApplicable, SingularSystem
-from .base import numeric_instances, partition, symbolic_solve
+from .base import numeric_instances, partition, project_rows, split_rows, symbolic_solve
+from .folding import ADJUGATE_MAX, fold_matrix, fold_trig, norm_reducer
 
-__all__ = ["SpeedBasis", "speed_basis", "velocity_rows", "Reduced"]
+__all__ = ["SpeedBasis", "speed_basis", "velocity_rows", "Reduced", "radial_rows", "PartialVelocities",
+           "partial_velocities", "quasi_equations", "ADJUGATE_MAX", "fold_matrix", "fold_trig", "norm_reducer"]
 
 
 @dataclass(frozen=True)
@@ -86,6 +95,9 @@ class SpeedBasis:
         Whether the model declares ``[speeds]``.
     dropped : tuple of str
         Declared speeds not kept (fixed by the constraints and the kept ones).
+    rows : tuple of ConstraintRow
+        The rows of ``G`` (the ideal constraints, then the radial rows of Euler parameters the
+        declared speeds leave undetermined); their ``gamma`` enter ``r``.
     """
 
     names: tuple[str, ...]
@@ -96,6 +108,7 @@ class SpeedBasis:
     w: object
     declared: bool
     dropped: tuple[str, ...]
+    rows: tuple = ()
 
     @property
     def k(self) -> int:
@@ -119,6 +132,11 @@ class SpeedBasis:
                           "speeds " + ", ".join(f"{n} = {d}" for n, d in zip(self.names, self.definitions))
                           + " (evaluated from the state)"),)
 
+    @property
+    def radial(self) -> tuple:
+        """The radial rows of Euler parameters among :attr:`rows` (see :func:`radial_rows`)."""
+        return tuple(r for r in self.rows if r.reaction_kind == RADIAL)
+
     def note(self) -> str:
         if not self.declared:
             return ("no [speeds] declared: the speeds are the independent velocities "
@@ -126,13 +144,47 @@ class SpeedBasis:
         out = "speeds " + ", ".join(self.names)
         if self.dropped:
             out += " (" + ", ".join(self.dropped) + " fixed by the constraints)"
+        for r in self.radial:
+            out += f"; the radial rate of frame {r.name[:-len('_norm')]}'s Euler parameters held at zero"
         return out
 
 
-def speed_basis(dyn, rows, independent, form: str) -> SpeedBasis:
-    """Choose the independent speeds for the ideal *rows* (see the module docstring)."""
+RADIAL = "radial"   # the reaction kind of the radial rows of Euler parameters
+
+
+def radial_rows(dyn) -> list:
+    """``e . e' = 0`` at velocity level, ``e . e'' + e' . e' = 0`` at acceleration level, for
+    every frame given by Euler parameters: rows named ``<frame>_norm`` (not constraints of the
+    model: the radial rate the declared speeds do not determine, held at zero)."""
+    from ..dynamics import ConstraintRow
+
+    out = []
+    index = {s: j for j, s in enumerate(dyn.q)}
+    for f in getattr(dyn.model, "frames", ()) or ():
+        if not getattr(f, "quaternion", None):
+            continue
+        e = [se.Symbol(str(c)) for c in f.quaternion]
+        if not all(x in index for x in e):
+            continue
+        G = [se.Integer(0)] * dyn.n
+        for x in e:
+            G[index[x]] = x
+        ed = [dyn.qd[index[x]] for x in e]
+        out.append(ConstraintRow(f"{f.name}_norm", tuple(G), sum((v * v for v in ed), se.Integer(0)), tuple(G),
+                                 sum((x * x for x in e), se.Integer(0)) / 2,
+                                 sum((x * v for x, v in zip(e, ed)), se.Integer(0)), 0, False, RADIAL))
+    return out
+
+
+def speed_basis(dyn, rows, independent, form: str, order: tuple[str, ...] | None = None) -> SpeedBasis:
+    """Choose the independent speeds for the ideal *rows* (see the module docstring): the
+    declared speeds named in *order* (``[forms] independent``) first, in that order, then the
+    others in the declared order; a listed speed that cannot be kept is refused (exit 2)."""
     model = dyn.model
     n = dyn.n
+    rows = list(rows)
+    if model.speeds:   # the radial rates of Euler parameters the declared speeds leave free
+        rows += _undetermined(dyn, rows, radial_rows(dyn))
     G, g = velocity_rows(dyn, rows, form)
     m = len(G)
     zero = {v: se.Integer(0) for v in dyn.qd}
@@ -140,6 +192,8 @@ def speed_basis(dyn, rows, independent, form: str) -> SpeedBasis:
         from ...modeling.symbols import to_se
 
         cand = [(name, to_se(e)) for name, e in model.speeds.items()]
+        if order:
+            cand = sorted(cand, key=lambda c: order.index(c[0]) if c[0] in order else len(order))
         declared = True
     else:
         _, ind = partition(dyn, rows, independent)
@@ -174,13 +228,46 @@ def speed_basis(dyn, rows, independent, form: str) -> SpeedBasis:
             "determine every velocity")
     sel = [c - m for c in chosen]
     names = tuple(cand[c][0] for c in sel)
+    lost = [nm for nm in (order or ()) if nm not in names]
+    if declared and lost:
+        fixed = [r.name for r in rows if r.reaction_kind != RADIAL]
+        by = (f"the constraints {', '.join(fixed)} and " if fixed else "")
+        raise FormNotApplicable(
+            f"[forms] independent = {list(order)}: the speed '{lost[0]}' is fixed by {by}the speeds "
+            f"listed before it, so it cannot be independent; list {len(names)} speeds that the "
+            f"constraints leave free (e.g. {', '.join(names)})")
     defs = [cand[c][1] for c in sel]
     W = se.Matrix([Wc[c] for c in sel] + G) if n else se.zeros(0, 0)
     w = se.Matrix([[d.subs(zero)] for d in defs] + [[x] for x in g]) if n else se.zeros(0, 1)
     symbols = [se.Symbol(nm) for nm in names] if declared else [dyn.qd[model.coordinates.index(nm[:-1])] for nm in names]
     sigma = [se.Symbol(f"sigma[{r.name}]") for r in rows]
     return SpeedBasis(names, symbols, defs, sigma, W, w, declared,
-                      tuple(cand[c][0] for c in range(len(cand)) if c not in sel) if declared else ())
+                      tuple(cand[c][0] for c in range(len(cand)) if c not in sel) if declared else (),
+                      tuple(rows))
+
+
+def _undetermined(dyn, rows, radial) -> list:
+    """The radial rows not determined by the declared speeds and the ideal *rows* (judged at
+    generic states; the speeds are blind to the radial rates when they are written through the
+    frames, so each radial row is then needed)."""
+    if not radial:
+        return []
+    from ...modeling.symbols import to_se
+
+    exprs = [to_se(e) for e in dyn.model.speeds.values()]
+    base = [[se.diff(e, v) for v in dyn.qd] for e in exprs] + [list(r.G) for r in rows]
+    extra = [list(r.G) for r in radial]
+    flat = [x for row in base + extra for x in row]
+    inst = [x.reshape(len(base) + len(extra), dyn.n) for x in numeric_instances(dyn, flat, count=2)]
+    inst = [x for x in inst if np.all(np.isfinite(x))] or inst
+    out = []
+    for k, r in enumerate(radial):
+        sel = list(range(len(base))) + [len(base) + j for j in range(k)]
+        with_r = sel + [len(base) + k]
+        if all(np.linalg.matrix_rank(x[with_r], tol=1e-9 * (1 + np.abs(x).max()))
+               > np.linalg.matrix_rank(x[sel], tol=1e-9 * (1 + np.abs(x).max())) for x in inst):
+            out.append(r)
+    return out
 
 
 def invert(basis: SpeedBasis, dyn, form: str, columns: list | None = None, factor: int = 4,
@@ -215,109 +302,58 @@ def invert(basis: SpeedBasis, dyn, form: str, columns: list | None = None, facto
     return symbolic_solve(Wl, Y, max(floor, factor * size))
 
 
-ADJUGATE_MAX = 6
+@dataclass(frozen=True)
+class PartialVelocities:
+    """``q' = Phi p + phi0`` and ``q'' = Phi p' + r`` on the constraints (:func:`partial_velocities`).
+
+    Attributes
+    ----------
+    basis : SpeedBasis
+    Phi, r : se.DenseMatrix
+        n x k and n x 1: written explicitly, or auxiliary symbols ``Phi[q,p]``, ``r[q]``.
+    subs : dict
+        ``q' -> Phi p + phi0`` (the velocities in the speeds) when explicit, else empty.
+    auxiliaries : tuple of Auxiliary
+        The linear system of ``Phi`` and ``r`` when they are not explicit.
+    """
+
+    basis: SpeedBasis
+    Phi: object
+    r: object
+    subs: dict
+    auxiliaries: tuple
+
+
+def partial_velocities(dyn, ideal, independent, form: str, order=None) -> PartialVelocities:
+    """The speeds of *form* for the ideal rows, their partial velocities ``Phi`` (Kane &
+    Levinson 1985, sec. 4.4) and the acceleration terms ``r``: solved symbolically when small
+    (:func:`invert`), else as auxiliary symbols solved numerically at each evaluation."""
+    basis = speed_basis(dyn, ideal, independent, form, order)
+    n, k = dyn.n, basis.k
+    b = [dyn.dt(d, with_acceleration=False) for d in basis.definitions] + [r.gamma for r in basis.rows]
+    cols = [[se.Integer(1 if i == c else 0) for i in range(n)] for c in range(k)]
+    cols.append([-basis.w[i, 0] for i in range(n)])
+    cols.append([-x for x in b])
+    X = invert(basis, dyn, form, cols)
+    coords = dyn.model.coordinates
+    if X is None:   # too large to write: partial velocities solved numerically
+        syms = [[se.Symbol(f"Phi[{coords[i]},{basis.names[c]}]") for c in range(k)]
+                + [se.Symbol(f"r[{coords[i]}]")] for i in range(n)]
+        Y = se.Matrix([[cols[c][i] for c in range(k)] + [cols[k + 1][i]] for i in range(n)])
+        aux = (Auxiliary(se.Matrix(syms), basis.W, Y,
+                         "partial velocities Phi[q,p] and r[q] solve W [Phi | r] = [E_p | -(W' q' + w')]"),)
+        return PartialVelocities(basis, se.Matrix([row[:k] for row in syms]),
+                                 se.Matrix([[row[k]] for row in syms]), {}, aux)
+    Phi = se.Matrix([[X[i][c] for c in range(k)] for i in range(n)])
+    r = se.Matrix([[X[i][k + 1]] for i in range(n)])
+    subs = {dyn.qd[i]: sum((X[i][c] * basis.symbols[c] for c in range(k)), se.Integer(0)) + X[i][k]
+            for i in range(n)}
+    return PartialVelocities(basis, Phi, r, subs, ())
 
 
 def to_speeds(expr, subs: dict):
     """An expression in ``q, q', t`` written in the speeds (``q' -> Phi_p p + phi0``)."""
     return se.sympify(expr).subs(subs) if subs else se.sympify(expr)
-
-
-def _reduce_powers(expr, kind: str):
-    """``expr`` expanded with every ``sin(a)^k`` (``kind = "sin"``; or ``cos``), ``k >= 2``,
-    written as ``sin(a)^(k mod 2) (1 - cos(a)^2)^(k // 2)`` and expanded again: a canonical
-    form of a polynomial in the sines and cosines of one angle."""
-    other = se.cos if kind == "sin" else se.sin
-    func = se.sin if kind == "sin" else se.cos
-
-    def term(t):
-        factors = t.args if isinstance(t, se.Mul) else (t,)
-        out, changed = [], False
-        for f in factors:
-            if isinstance(f, se.Pow) and isinstance(f.args[0], func) \
-                    and f.args[1].is_integer and int(f.args[1]) >= 2:
-                k = int(f.args[1])
-                a = f.args[0].args[0]
-                out.append(func(a) ** (k % 2) * (1 - other(a) ** 2) ** (k // 2))
-                changed = True
-            else:
-                out.append(f)
-        return se.Mul(*out) if changed else t
-
-    e = se.expand(expr)
-    terms = e.args if isinstance(e, se.Add) else (e,)
-    return se.expand(se.Add(*[term(t) for t in terms]))
-
-
-def fold_trig(expr):
-    """The shortest of *expr* and its two canonical trigonometric forms (``sin^2 -> 1 - cos^2``
-    or ``cos^2 -> 1 - sin^2``, expanded) -- exact identities only; cancels the high powers
-    (``cos^8 + 3 cos^4 sin^2 + cos^2 sin^6 + sin^2 = 1``) that pairwise folding misses.  Only
-    polynomial parts are rewritten (a quotient is kept as it is)."""
-    expr = se.sympify(expr)
-    if not any(isinstance(a, (se.sin, se.cos)) for a in expr.atoms(se.Function)):
-        return expr
-    best, size = expr, count_ops([expr])
-    if size > 4000:
-        return expr
-    for kind in ("sin", "cos"):
-        try:
-            cand = _reduce_powers(expr, kind)
-        except (RuntimeError, TypeError, ValueError):   # pragma: no cover - unusual nodes
-            continue
-        s = count_ops([cand])
-        if s < size:
-            best, size = cand, s
-    return best
-
-
-def norm_reducer(model):
-    """A function reducing a polynomial in Euler parameters modulo their unit norm
-    (``e0^k -> e0^(k mod 2) (1 - e1^2 - e2^2 - e3^2)^(k // 2)``, expanded: a canonical form on
-    the constraint manifold, where the equations hold), or None when the model has no frame
-    given by Euler parameters.  The rates of unit Euler parameters then read ``2 G(e) e'``."""
-    quads = [tuple(se.Symbol(str(c)) for c in f.quaternion) for f in getattr(model, "frames", ()) or ()
-             if getattr(f, "quaternion", None)]
-    if not quads:
-        return None
-    heads = {q[0]: q[1:] for q in quads}
-
-    def reduce(expr):
-        expr = se.sympify(expr)
-        if not (expr.free_symbols & set(heads)) or count_ops([expr]) > 20000:
-            return expr
-        e = se.expand(expr)
-        terms = e.args if isinstance(e, se.Add) else (e,)
-        out = []
-        for t in terms:
-            factors = t.args if isinstance(t, se.Mul) else (t,)
-            new = []
-            for f in factors:
-                if isinstance(f, se.Pow) and f.args[0] in heads and f.args[1].is_integer and int(f.args[1]) >= 2:
-                    k = int(f.args[1])
-                    rest = sum((x * x for x in heads[f.args[0]]), se.Integer(0))
-                    new.append(f.args[0] ** (k % 2) * (1 - rest) ** (k // 2))
-                else:
-                    new.append(f)
-            out.append(se.Mul(*new))
-        return se.expand(se.Add(*out))
-    return reduce
-
-
-def fold_matrix(M, reduce=None, n: int = 0):
-    """:func:`fold_trig` (and the Euler-parameter reduction *reduce*) on every entry -- for
-    systems of at most :data:`ADJUGATE_MAX` coordinates (*n*), whose equations are read; a
-    larger one (a bicycle) is left as derived: walking its expression trees costs minutes."""
-    if n > ADJUGATE_MAX:
-        return M
-    out = se.zeros(M.rows, M.cols)
-    for i in range(M.rows):
-        for j in range(M.cols):
-            x = M[i, j]
-            if x != 0:
-                x = fold_trig(reduce(x) if reduce is not None else x)
-            out[i, j] = x
-    return out
 
 
 @dataclass(frozen=True)
@@ -400,7 +436,7 @@ def quasi_lagrangian(dyn, basis: SpeedBasis, ideal, form: str) -> QuasiLagrangia
     for r_ in range(k):
         Pi[r_, 0] = sum((Phi[j, r_] * se.sympify(dyn.Q[j]) for j in range(n) if Phi[j, r_] != 0 and dyn.Q[j] != 0),
                         se.Integer(0)).subs(on_motion)
-    b = [dyn.dt(d, with_acceleration=False) for d in basis.definitions] + [r_.gamma for r_ in ideal]
+    b = [dyn.dt(d, with_acceleration=False) for d in basis.definitions] + [r_.gamma for r_ in basis.rows]
     R = se.Matrix([[Phi[i, c] for c in range(k)] for i in range(n)])
     r = se.Matrix([[-sum((Phi[i, c] * b[c] for c in range(n) if Phi[i, c] != 0 and b[c] != 0), se.Integer(0))]
                    for i in range(n)]).subs(on_motion)
@@ -428,3 +464,48 @@ def assemble(dyn, ql: QuasiLagrangian, lhs: list):
             A[r_, s] = fold(reduce(se.diff(e, acc[s])))
         c[r_, 0] = fold(reduce(e.subs(zero_acc)))
     return A, c
+
+
+def quasi_equations(form, dyn, rows, independent, coefficients, term, describe) -> EquationsOfMotion:
+    """The derivation the Lagrangian quasi-velocity forms share (Boltzmann--Hamel,
+    Poincaré--Chetaev): for every independent speed ``r``
+
+        d/dt dT*/du_r - sum_j Phi_jr dT*/dq_j + term(r) = Pi_r,
+
+    on the motion, with the ideal rows eliminated and the non-ideal ones kept as in Maggi's form.
+
+    Parameters
+    ----------
+    form : Formalism
+        Its ``name``, ``title`` and ``citation``.
+    coefficients : callable ``(dyn, ql) -> dict``
+        The form's coefficients (Hamel's, or the structure coefficients).
+    term : callable ``(ql, coefficients, r) -> expression``
+        The form's own terms of equation ``r``.
+    describe : callable ``(ql, coefficients, labels) -> (extras, notes)``
+        What the form shows; ``labels`` name the speeds, then the constraints' combinations.
+    """
+    ideal, kept = split_rows(rows)
+    basis = speed_basis(dyn, ideal, independent, form.name, form.speed_order)
+    ql = quasi_lagrangian(dyn, basis, ideal, form.name)
+    n, k = dyn.n, basis.k
+    coeff = coefficients(dyn, ql)
+    lhs = []
+    for r in range(k):
+        e = ql.ddt(dyn, ql.dT[r])
+        e -= sum((ql.Phi[j, r] * se.diff(ql.Tstar, dyn.q[j]) for j in range(n) if ql.Phi[j, r] != 0),
+                 se.Integer(0))
+        e += term(ql, coeff, r)
+        lhs.append(e.subs(ql.on_motion))
+    A, c = assemble(dyn, ql, lhs)
+    G, gam, B = project_rows(kept, Reduced(ql.R, ql.r), n)
+    labels = list(basis.names) + [f"sigma[{r_.name}]" for r_ in basis.rows]
+    extras, notes = describe(ql, coeff, labels)
+    return EquationsOfMotion(
+        form=form.name, title=form.title, citation=form.citation, model=dyn.model,
+        unknowns=basis.unknowns, multipliers=tuple(f"lambda_{r_.name}" for r_ in kept),
+        constraint_names=tuple(r_.name for r_ in kept), rows=tuple(rows), independent=basis.names,
+        A_=A, c_=c, Qf_=ql.Pi, B_=B, G_=G, gamma_=gam, R_=ql.R, r_=ql.r,
+        auxiliaries=basis.auxiliaries(), extras_=extras, notes=(basis.note(), *notes),
+        eliminated=tuple(r_.name for r_ in ideal), speeds=basis.names if basis.declared else (),
+    )
