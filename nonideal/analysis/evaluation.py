@@ -158,6 +158,10 @@ class Evaluation:
                 elif "margin" in c:
                     lines.append(f"    sticking: friction needed {c['friction_needed']:.8g} of "
                                  f"mu_s N = {c['friction_available']:.8g} (margin {c['margin']:.6g})")
+            elif "det_A" in r:
+                lines.append(f"  mu_{name} = {number(value, None, 10, True)}   (R = adj(A) grad f mu; "
+                             f"lambda = det(A) mu = {number(r['lambda'], None, 10, True)}, "
+                             f"det A = {number(r['det_A'], None, 10, True)})")
             else:
                 lines.append(f"  lambda_{name} = {number(value, None, 10, True)}")
             lines.append(f"    reaction (generalized) = {_fmt(r['generalized'])}")
@@ -348,6 +352,19 @@ def evaluate(model: Model, at: Mapping[str, float] | None = None, t: float | Non
     return _report(model, form, t, q, qd, mode, sol, solver)
 
 
+def _transform_det(model, name, t, q, qd, params) -> float:
+    """``det A`` of the quasi-ideal constraint *name*'s transform at the state."""
+    import sympy as sp
+
+    c = next(c for c in model.constraints if c.name == name)
+    values = {sp.Symbol(k): float(v) for k, v in zip(model.parameter_values, params)}
+    values[sp.Symbol("t")] = float(t)
+    values.update(zip(model.q, (float(v) for v in q)))
+    values.update(zip(model.qd, (float(v) for v in qd)))
+    A = sp.Matrix([[sp.sympify(x) for x in row] for row in c.transform])
+    return float(A.det().xreplace(values))
+
+
 def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
     kernel = solver.kernel
     n = kernel.n
@@ -387,6 +404,11 @@ def _report(model, form, t, q, qd, mode, sol, solver) -> Evaluation:
             # displacements is the control, not friction (Briskin et al. 2021, (1.1)-(2.3))
             reactions[name]["ideal_part"] = reactions[name]["constraint_part"]
             reactions[name]["control_part"] = reactions[name]["friction_part"]
+        if row.reaction_kind == "quasi-ideal":
+            # R = adj(A) grad f mu: the paper's multiplier is lambda = det(A) mu
+            det = _transform_det(model, name, t, q, qd, solver.params)
+            reactions[name]["det_A"] = det
+            reactions[name]["lambda"] = det * float(lam)
     ck = solver.ck
     for c, (name, cs) in enumerate(mode.contacts):
         cf = sol.contacts[name]

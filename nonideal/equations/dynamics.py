@@ -27,7 +27,8 @@ from functools import cached_property
 import symengine as se
 
 from ..modeling.bodies import Force, PlanarBody, RigidBody, Torque
-from .servo import control_rows, directions_dependent, reach, root_row, shared_rows
+from .servo import (control_rows, directions_dependent, quasi_ideal_direction, reach, root_row,
+                    shared_rows)
 from ..errors import ModelError, SingularSystem
 from ..modeling.model import Constraint, Model
 from ..modeling.symbols import to_se
@@ -503,13 +504,12 @@ class Dynamics:
         if c.reaction is not None:
             B = [to_se(r) for r in c.reaction]
         elif c.transform is not None:
-            A = se.Matrix([[to_se(x) for x in row] for row in c.transform])
-            try:
-                B = list(A.LUsolve(se.Matrix(G)))
-            except Exception as exc:  # pragma: no cover - symengine raises RuntimeError
-                raise SingularSystem(f"constraint '{c.name}': transform matrix is singular ({exc}); "
-                                     "the transform must be an invertible n x n matrix",
-                                     _source(self.model)) from None
+            B = quasi_ideal_direction([[to_se(x) for x in row] for row in c.transform], G)
+            if all(b == 0 for b in B):
+                raise SingularSystem(f"constraint '{c.name}': transform matrix is singular and "
+                                     "adj(A) grad f = 0 identically, so A R = lambda grad f does not "
+                                     "fix the reaction; the transform must be an invertible n x n "
+                                     "matrix", _source(self.model))
         else:
             B = list(G)
         return ConstraintRow(c.name, tuple(G), gamma, tuple(B), position, vel, c.order,

@@ -4,7 +4,8 @@ Three transformations, each a symbolic solve of the other constraints' saddle-po
 :func:`reach` (a control that reaches its program only through the dynamics, below),
 :func:`root_row` (a second-order constraint nonlinear in the accelerations, with a root rule)
 and :func:`least_cost_direction` (several control directions for one program, Béghin's r < j,
-resolved by the least quadratic cost).
+resolved by the least quadratic cost); and the direction of a quasi-ideal constraint's
+reaction, :func:`quasi_ideal_direction` (``adj(A) grad f``, finite where ``det A = 0``).
 
 **Controls acting through the dynamics.**
 
@@ -46,8 +47,8 @@ import sympy as sp
 from ..errors import IndeterminateSystem, MechanicsError
 from ..modeling.symbols import to_se, to_sp
 
-__all__ = ["ServoReach", "Condition", "reach", "root_row", "least_cost_direction", "saddle_system",
-           "shared_directions", "shared_rows", "control_rows", "directions_dependent", "MAX_EXTRA_ORDER"]
+__all__ = ["adjugate", "quasi_ideal_direction", "ServoReach", "Condition", "reach", "root_row",
+           "least_cost_direction", "saddle_system", "shared_directions", "shared_rows", "control_rows", "directions_dependent", "MAX_EXTRA_ORDER"]
 
 MAX_EXTRA_ORDER = 4      # differentiate at most this many times beyond the acceleration level
 DECOUPLED_TOL = 1e-11    # |G a_u| relative to |G| |a_u| below this at every probe: decoupled
@@ -417,3 +418,32 @@ def control_rows(dyn, row_of, make_row) -> dict:
         out[c.name] = (make_row(c.name, base.G, base.gamma, B, base.position, base.velocity,
                                 base.order, base.unilateral, "servo"), coef)
     return out
+
+
+def adjugate(A) -> se.Matrix:
+    """The adjugate (classical adjoint) of the square matrix *A* (a list of rows of symengine
+    expressions): ``adj(A)_ij = (-1)^(i+j) det(A without row j and column i)``, so that
+    ``A adj(A) = det(A) I`` -- polynomial in the entries, finite where ``A`` is singular."""
+    n = len(A)
+    if n == 1:
+        return se.Matrix([[se.Integer(1)]])
+    out = se.zeros(n, n)
+    for i in range(n):
+        for j in range(n):
+            minor = se.Matrix([[A[r][k] for k in range(n) if k != i] for r in range(n) if r != j])
+            out[i, j] = (-1) ** (i + j) * minor.det()
+    return out
+
+
+def quasi_ideal_direction(A, G) -> list:
+    """The direction of a quasi-ideal constraint's reaction: ``adj(A) grad f``.
+
+    The definition ``A R = lambda grad f`` (Briskin et al. 2021, (1.3), (2.1)) gives
+    ``R = A^-1 grad f lambda = adj(A) grad f mu`` with ``lambda = det(A) mu``.  The second form
+    is finite and continuous through ``det A = 0``: there the reaction lies along
+    ``adj(A) grad f`` (in the null space of ``A``) and ``lambda = 0``, the motion the definition
+    fixes whenever ``adj(A) grad f != 0``.  The row's multiplier is ``mu``.
+    """
+    adj = adjugate(A)
+    return [se.expand(sum((adj[i, j] * G[j] for j in range(len(G))), se.Integer(0)))
+            for i in range(len(G))]

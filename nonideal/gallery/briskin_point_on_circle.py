@@ -102,8 +102,8 @@ def check(model: Model) -> dict:
     traj = simulate(model, times=times)
     w, phi = traj.velocity("phi"), traj.coordinate("phi")
     exact = reg.omega(times)
-    lam = traj.multipliers["circle"]
-    Rr = lam / (1 - p["alpha"] * p["beta"])
+    mu = traj.multipliers["circle"]      # R = adj(A) grad f mu = (1, -beta) mu
+    Rr = mu
     Rphi = -p["beta"] * Rr
     Rr_318 = p["F"] * math.sin(p["gamma"]) - p["m"] * p["r0"] * w ** 2
     wdot = traj.qdd[:, 1]

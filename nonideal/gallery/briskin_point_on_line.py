@@ -47,11 +47,14 @@ limit there (``lambda = 0`` and ``R`` in the null space of ``A``), but ``R = A^-
 lambda`` does not exist.  By the definition (1.3), ``A R = lambda grad f``, the motion is still
 well posed when ``grad f`` is not in the range of ``A``: the reaction is along
 ``adj(A) grad f`` with ``lambda = 0`` (at ``alpha = -0.5, beta = -2``: ``R = 0.4 G (1, 2) =
-(3.924, 7.848)``).  The library computes quasi-ideal constraints through ``A^-1``: it stops
-with exit code 3 and says this (the direction ``adj(A) grad f``, or that the reaction is not
-fixed when ``adj(A) grad f = 0``).  On the
-grid of figs. 2-4 (``k = 0.5``) these are ``alpha = 0.5, beta = 2`` (both at once) and
-``alpha = -0.5, beta = -2``; the sweep records them and goes on.
+(3.924, 7.848)``).  The library forms every quasi-ideal reaction as ``R = adj(A) grad f mu``
+(``mu`` the row's multiplier, ``lambda = det(A) mu``: the same motion wherever ``det A != 0``,
+and its continuous limit where ``det A = 0``), so it computes that motion; ``evaluate``
+prints ``mu``, ``lambda`` and ``det A``.  Here ``mu = G/D`` and ``lambda = G (1 - alpha beta)/D``.
+When ``adj(A) grad f = 0`` as well (``alpha = 0.5, beta = 2``, where also ``D = 0``) the
+definition leaves a family of reactions and the library stops with exit code 3 saying so.  On
+the grid of figs. 2-4 (``k = 0.5``) these are the two points with ``alpha beta = 1``; the sweep
+computes the first and records the second.
 """
 
 from __future__ import annotations
@@ -91,7 +94,7 @@ def closed_form(p: dict, tau: float) -> dict:
     l = ax * tau * tau / 2
     W = (p["mu_x"] * Rx ** 2 + p["mu_y"] * Ry ** 2) * tau
     A = G * l * (be * k * k - al) / D
-    return {"D": D, "lambda": G * (1 - al * be) / D, "R_x": Rx, "R_y": Ry, "a_x": ax,
+    return {"D": D, "lambda": G * (1 - al * be) / D, "mu": G / D, "R_x": Rx, "R_y": Ry, "a_x": ax,
             "a_y": -k * ax, "a": abs(ax) * np.sqrt(1 + k * k), "l": l, "heat": W, "work": A,
             "work_printed": l * (be * k - al) / D, "criterion": abs(A) + W}
 
@@ -140,7 +143,8 @@ def check(model: Model, tau: float = 1.0) -> dict:
         return abs(a - b) / max(abs(b), 1e-300)
 
     errors = {
-        "lambda": rel(ev["multipliers"]["line"], cf["lambda"]),
+        "mu": rel(ev["multipliers"]["line"], cf["mu"]),
+        "lambda": abs(line["lambda"] - cf["lambda"]) / max(abs(cf["mu"]), 1e-300),
         "R_x": rel(line["generalized"][0], cf["R_x"]), "R_y": rel(line["generalized"][1], cf["R_y"]),
         "a_x": rel(ev["qddot"]["x"], cf["a_x"]), "a_y": rel(ev["qddot"]["y"], cf["a_y"]),
         "heat": rel(measures["heat"], cf["heat"]),
@@ -181,7 +185,9 @@ def run(verbose: bool = True) -> dict:
         sweep_errors.append(max(abs(s["actuator_heat"] / cf["heat"] - 1),
                                 abs(s["reaction_work"] - cf["work"]) / cf["heat"]))
     ok &= max(sweep_errors) < 1e-9
-    ok &= ([s[0] for s in singular] == [{"beta": 2.0, "alpha": 0.5}, {"beta": -2.0, "alpha": -0.5}]
+    # alpha = 0.5, beta = 2: det A = 0 and adj(A) grad f = 0 (and D = 0), the reaction is not
+    # fixed; alpha = -0.5, beta = -2: det A = 0, computed along adj(A) grad f with lambda = 0
+    ok &= ([s[0] for s in singular] == [{"beta": 2.0, "alpha": 0.5}]
            and all(code == 3 for _, code in singular))
     # the criterion's minimum with unequal losses: a sweep, then Nelder-Mead
     lossy = {"mu_x": "0.2"}

@@ -33,8 +33,25 @@ explicit in t, covers M1 = 0 only) the same recursion gives W[phi2', L3] =
 which vanishes at rho0 = J2 M1/(M2 R n) (0.125 m for M1 = 0.75 N m with the numbers below):
 the paper's "w = rho0^2 rho0' omega0 != 0, so rank W = 3" fails there -- the first
 approximation loses controllability at the instant the programme passes that radius.
-:func:`det_W` gives the formula; the test of this example checks it against the library's
-W(t) at M1 = 0.  Optimal stabilization (3.33)-(3.37): the cost
+:func:`det_W` gives the formula.
+
+M1 != 0 (``regulator_release_m1.toml``, the numbers of fig. 3.2: M1 = 0.3, M2 = 0.2, so
+again rho0* = 0.125 m).  With g(rho) = (M2 + rho M1/R)/(n omega0 rho) the programme is
+rho0' = g(rho0) and (3.10) integrates it: with y = M2 + rho M1/R and b = M1/R,
+
+    t = (n omega0/b^2) (y - y_i - M2 ln(y/y_i)),
+    rho0(t) = (M2/b) (-W_{-1}(-exp(-C(t)/M2)) - 1),   C(t) = y_i - M2 ln y_i + b^2 t/(n omega0) + M2 ln M2
+
+(:func:`programme_m1`; the branch W_{-1} because y > M2 for M1 > 0); the programmed force is
+u(t) = m rho0'' = m g(rho0) g'(rho0) = -m M2 (M2 R + M1 rho0)/(n^2 omega0^2 R rho0^3).  The model
+file writes this u through rho (the expression language has no Lambert W): along the
+programme it is u(t); its first approximation adds u'(rho0) rho'/m to z' (absent from (3.29)
+with an open-loop u(t)), which enters only the z component of L3 and leaves det W as above
+(:func:`closed_forms_m1` has W with it).  The wheel passes rho0* at t* = 1.676 s (:func:`t_of_rho`):
+``nonideal stability regulator_release_m1.toml --about program --controls u1 --t-end 2.5``
+stops there with exit code 3 naming the instant and the state (rho = 0.125); on [0, 1] it
+runs (rank 3 throughout).  The test of this example checks the library's W(t) and det W
+against these formulas at M1 = 0 and M1 = 0.3, and the instant it reports against t*.  Optimal stabilization (3.33)-(3.37): the cost
 int (zeta^2 + rho'^2 + z^2 + u1^2) dt, V = x^T P(t) x with P from the differential Riccati
 equation, u1 = -B^T P x.  The printed (3.35) omits the cross term zeta rho' whose coefficient
 C13 appears in (3.36), and (3.36) has further index and sign misprints; the library integrates
@@ -73,6 +90,7 @@ NAME = "regulator-release"
 ORDER = 206
 TITLE = "Friction speed regulator, parametric release: W(t) (3.30)-(3.32) and optimal stabilization (3.33)-(3.37)"
 FILE = "regulator_release.toml"
+FILE_M1 = "regulator_release_m1.toml"
 
 DEFAULTS = {"m": 0.5, "J1": 0.02, "J": 0.01, "J2": 0.05, "R": 0.1, "r": 0.05, "omega0": 20.0, "M2": 0.5,
             "rho_i": 0.05, "u1": 0.0}
@@ -115,6 +133,45 @@ def det_W(rho0, p=DEFAULTS, M1: float = 0.0):
     rho0 = np.asarray(rho0, dtype=float)
     D = n * rho0 ** 2 + p["J2"]
     return (p["M2"] * p["R"] * n * rho0 - p["J2"] * M1) / (p["R"] * p["m"] ** 3 * D ** 2)
+
+
+def _n(p) -> float:
+    return p["J1"] / p["R"] ** 2 + p["J"] / p["r"] ** 2
+
+
+def t_of_rho(rho, p) -> np.ndarray:
+    """(3.10): the time at which the programme (M1 != 0, constant torques) reaches *rho*."""
+    n, b = _n(p), p["M1"] / p["R"]
+    y, yi = p["M2"] + b * np.asarray(rho, dtype=float), p["M2"] + b * p["rho_i"]
+    return n * p["omega0"] / b ** 2 * (y - yi - p["M2"] * np.log(y / yi))
+
+
+def programme_m1(t, p) -> tuple[np.ndarray, np.ndarray]:
+    """rho0(t), rho0'(t) of the implicit programme (3.10) with M1 > 0: the Lambert-W time law
+    of the module docstring (scipy's ``lambertw``, branch -1)."""
+    from scipy.special import lambertw
+
+    n, b, M2 = _n(p), p["M1"] / p["R"], p["M2"]
+    yi = M2 + b * p["rho_i"]
+    C = yi - M2 * np.log(yi) + b ** 2 * np.asarray(t, dtype=float) / (n * p["omega0"]) + M2 * np.log(M2)
+    s = -np.real(lambertw(-np.exp(-C / M2), -1))
+    rho = (M2 * s - M2) / b
+    return rho, (M2 + b * rho) / (n * p["omega0"] * rho)
+
+
+def closed_forms_m1(rho, p) -> np.ndarray:
+    """W(t) = [L1, L2, L3] at the programme's positions *rho* (M1 != 0, the programmed force
+    written through rho as in the model file), in the library's order (rho, phi2', rho')."""
+    n, w, m, M1, M2, R = _n(p), p["omega0"], p["m"], p["M1"], p["M2"], p["R"]
+    rho = np.asarray(rho, dtype=float)
+    rd = (M2 + rho * M1 / R) / (n * w * rho)
+    D = n * rho ** 2 + p["J2"]
+    du = m * M2 * (2 * M1 * rho + 3 * M2 * R) / (n ** 2 * w ** 2 * R * rho ** 4)    # u'(rho)
+    W = np.zeros((len(rho), 3, 3))
+    W[:, 2, 0], W[:, 0, 1], W[:, 1, 1] = 1 / m, -1 / m, n * rho * w / (m * D)
+    W[:, 1, 2] = (M1 / (R * D) - n ** 2 * w * rho ** 2 * rd / D ** 2) / m
+    W[:, 2, 2] = du / m ** 2
+    return W
 
 
 def run(verbose: bool = True) -> dict:

@@ -245,7 +245,7 @@ def diagnose_singular(solver, M, G, B, layout, t, q, qd) -> Exception:
         failure = root_failure(kernel, t, q, qd, solver.params)
         if failure is not None:
             return failure
-    singular = _singular_transforms(kernel, bad, t, q, qd, solver.params)
+    singular = _singular_transforms(kernel, [r.name for r in layout], t, q, qd, solver.params)
     if singular:
         return MechanicsError(singular + where.replace(" at t", "; at t", 1)
                               + ": the motion cannot be continued through this state")
@@ -317,21 +317,23 @@ def weakest_reactions(M: np.ndarray, G: np.ndarray, B: np.ndarray) -> tuple[floa
     return float(sv[-1]) / max(scale, 1e-300), Vt[-1]
 
 
-def _singular_transforms(kernel, bad, t, q, qd, params) -> str:
-    """The explanation when the non-finite reaction columns *bad* are quasi-ideal constraints
-    whose transform ``A`` is singular at the state (``A R = lambda grad f``, Briskin et al.
-    2021, (1.3), (2.1)): ``R = A^-1 grad f lambda`` does not exist there, though the definition may
-    still fix the reaction (along ``adj(A) grad f``, with ``lambda = 0``); empty otherwise."""
+def _singular_transforms(kernel, names, t, q, qd, params) -> str:
+    """The explanation when a quasi-ideal constraint among *names* has a singular transform
+    ``A`` with ``adj(A) grad f = 0`` at the state (``A R = lambda grad f``, Briskin et al. 2021,
+    (1.3), (2.1)): its reaction direction ``adj(A) grad f`` vanishes, ``grad f`` lies in the
+    range of ``A`` and the definition does not fix the reaction; empty otherwise.  (Where
+    ``adj(A) grad f != 0`` the reaction lies along it with ``lambda = det(A) mu = 0``: a motion
+    the library computes.)"""
     import sympy as sp
 
     model = kernel.model
-    values = {sp.Symbol(k): v for k, v in model.parameter_values.items()}
+    values = {sp.Symbol(k): float(v) for k, v in zip(model.parameter_values, params)}
     values.update({sp.Symbol("t"): t})
     values.update(dict(zip(model.q, q)))
     values.update(dict(zip(model.qd, qd)))
     out = []
     for c in model.constraints:
-        if c.name not in bad or c.transform is None:
+        if c.name not in names or c.transform is None:
             continue
         A = sp.Matrix([[sp.sympify(x) for x in row] for row in c.transform])
         try:
@@ -345,14 +347,12 @@ def _singular_transforms(kernel, bad, t, q, qd, params) -> str:
         grad = np.array([float(sp.diff(c.expr, x).xreplace(values))
                          for x in (model.q if c.order == 0 else model.qd)], dtype=float)
         adj = np.array(A.adjugate().xreplace(values).evalf(), dtype=float) @ grad
-        direction = ", ".join(f"{v:.6g}" for v in adj)
+        if np.any(np.abs(adj) > 1e-12 * scale ** (len(An) - 1) * max(1.0, float(np.abs(grad).max()))):
+            continue
         out.append(
-            f"constraint '{c.name}': its transform A is singular (det A = 0) -- a quasi-ideal "
-            f"constraint's reaction R = A^-1 (grad f) lambda does not exist.  By its definition "
-            f"A R = lambda grad f (Briskin et al. 2021, (1.3), (2.1)) the reaction is then "
-            + (f"along adj(A) grad f = ({direction}) with lambda = 0, a motion this library does "
-               "not yet compute (it solves quasi-ideal constraints through A^-1); move the "
-               "transform off det A = 0 to compute it" if np.any(np.abs(adj) > 1e-12 * scale)
-               else "not determined by it (adj(A) grad f = 0): the constraint does not fix its "
-                    "reaction here"))
+            f"constraint '{c.name}': its transform A is singular (det A = 0) and adj(A) grad f = 0 "
+            "-- grad f lies in the range of A, so the definition A R = lambda grad f (Briskin et "
+            "al. 2021, (1.3), (2.1)) does not fix the reaction here (the reaction R = adj(A) "
+            "grad f mu vanishes, and A R = lambda grad f leaves a family of reactions R = lambda "
+            "R0 + null(A)): the reaction is indeterminate; move the transform off this point")
     return "; ".join(out)

@@ -139,3 +139,17 @@ def test_printing():
     assert "unknowns: x''" in text
     latex = derive(sleigh(), "appell").as_latex()
     assert "% S = " in latex and "\\ddot{\\theta}" in latex
+
+
+@pytest.mark.parametrize("name", ["beta", "gamma", "S"])
+def test_parameters_named_like_sympy_functions_in_the_velocity_coefficients(name):
+    """A parameter called beta, gamma or S multiplying a velocity in a nonholonomic constraint
+    (Keldysh's psi' = alpha lam - beta psi phi1' form): the quasi-velocity forms read it as a
+    symbol, not as SymPy's beta/gamma function or singleton registry, and agree with Lagrange I."""
+    model = Model(name="symbol names", coordinates=["x", "y", "th"],
+                  parameters={"m": 1.0, "J": 0.2, name: 0.7},
+                  kinetic="m/2*(x'^2 + y'^2) + J/2*th'^2", potential="m*9.81*y",
+                  constraints=[Constraint.nonholonomic("knife", f"y' - {name}*th*x'")],
+                  initial={"x": 0.1, "y": 0.0, "th": 0.3, "x'": 1.0, "th'": 0.5})
+    for form in ("kane", "maggi", "appell"):
+        assert compare_forms(model, forms=[form], count=4).worst() < 1e-10

@@ -42,7 +42,8 @@ def test_y_equation_sign_3_22():
     c = 1 - alpha * beta
     at = {"phi": phi, "yc": -L * math.sin(phi), "phi'": w, "xc'": 1.0, "yc'": -L * math.cos(phi) * w}
     d = evaluate(MOD.build(F=F, alpha=alpha, beta=beta), at=at).to_dict()
-    lam, ydd = d["multipliers"]["line"], d["qddot"]["yc"]
+    lam, ydd = d["reactions"]["line"]["lambda"], d["qddot"]["yc"]
+    assert d["multipliers"]["line"] * c == pytest.approx(lam, rel=1e-12)   # lambda = det(A) mu
     assert lam == pytest.approx(c * J * (M * L * w ** 2 - F) * math.sin(phi)
                                 / (J + M * c * L ** 2 * math.cos(phi) ** 2), rel=1e-10)
     assert M * ydd - F * math.sin(phi) == pytest.approx(lam / c, rel=1e-10)

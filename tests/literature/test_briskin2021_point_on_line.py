@@ -25,7 +25,11 @@ def test_reactions_and_accelerations_3_5_3_6(alpha, beta):
     model = load_model(PATH, parameters={"alpha": alpha, "beta": beta})
     cf = closed_form(model.parameter_values, 1.0)
     ev = evaluate(model).to_dict()
-    assert ev["multipliers"]["line"] == pytest.approx(cf["lambda"], rel=1e-12)
+    # the row's multiplier mu (R = adj(A) grad f mu) and the paper's lambda = det(A) mu
+    assert ev["multipliers"]["line"] == pytest.approx(cf["mu"], rel=1e-12)
+    line = ev["reactions"]["line"]
+    assert line["det_A"] == pytest.approx(1 - alpha * beta, rel=1e-12, abs=1e-15)
+    assert line["lambda"] == pytest.approx(cf["lambda"], rel=1e-12, abs=1e-12)
     assert ev["reactions"]["line"]["generalized"] == pytest.approx([cf["R_x"], cf["R_y"]], rel=1e-12, abs=1e-12)
     assert [ev["qddot"]["x"], ev["qddot"]["y"]] == pytest.approx([cf["a_x"], cf["a_y"]], rel=1e-12, abs=1e-12)
 
@@ -124,17 +128,57 @@ def test_simulate_reports_the_heat_next_to_the_work():
     assert data["energy"]["reaction_work"][-1] == pytest.approx(cf["work"], rel=1e-10)
 
 
+def test_singular_transform_alpha_beta_1_is_computed():
+    """alpha = -0.5, beta = -2 (alpha beta = 1, a grid point of figs. 2-4 at k = 0.5): A is
+    singular and R = A^-1 grad f lambda does not exist, but the definition A R = lambda grad f
+    (1.3) fixes the motion: R along adj(A) grad f = (k - alpha, 1 - beta k) = (1, 2) with
+    lambda = 0.  R = G (1, 2)/D, D = 1 + k^2 - k (alpha + beta) = 2.5: (3.924, 7.848), mu = G/D."""
+    G = 9.81
+    data = cli_json("evaluate", PATH, "--set", "alpha=-0.5", "--set", "beta=-2", "--json")
+    line = data["reactions"]["line"]
+    assert line["generalized"] == pytest.approx([3.924, 7.848], rel=1e-12)
+    assert data["multipliers"]["line"] == pytest.approx(G / 2.5, rel=1e-12)
+    assert line["det_A"] == 0.0 and line["lambda"] == 0.0
+    # the point accelerates along the line: x'' = R_x/m, y'' = R_y/m - G/m = -k x''
+    assert [data["qddot"]["x"], data["qddot"]["y"]] == pytest.approx([3.924, -1.962], rel=1e-12)
+    # R solves the definition: A R = lambda grad f = 0
+    A = np.array([[1, -0.5], [-2, 1]])
+    assert A @ np.array(line["generalized"]) == pytest.approx([0, 0], abs=1e-12)
+    # and the motion runs: work and heat as in the closed form (it holds at alpha beta = 1)
+    cf = closed_form({**load_model(PATH).parameter_values, "alpha": -0.5, "beta": -2.0}, 1.0)
+    sim = cli_json("simulate", PATH, "--set", "alpha=-0.5", "--set", "beta=-2", "--json")
+    assert sim["energy"]["reaction_work"][-1] == pytest.approx(cf["work"], abs=1e-9)
+    assert sim["actuator_heat"]["total"] == pytest.approx(cf["heat"], rel=1e-11)
+
+
+def test_alpha_beta_to_1_converges_to_the_singular_motion():
+    """alpha beta -> 1 along beta = 1/alpha - eps (alpha = -0.5): R, mu and the accelerations
+    converge continuously to the values at alpha beta = 1, and lambda = det(A) mu -> 0 linearly
+    in det A."""
+    at_one = evaluate(load_model(PATH, parameters={"alpha": -0.5, "beta": -2.0})).to_dict()
+    R1 = np.array(at_one["reactions"]["line"]["generalized"])
+    gaps = []
+    for eps in (1e-1, 1e-2, 1e-3, 1e-4, 1e-6):
+        beta = -2.0 - eps
+        ev = evaluate(load_model(PATH, parameters={"alpha": -0.5, "beta": beta})).to_dict()
+        line = ev["reactions"]["line"]
+        cf = closed_form({**load_model(PATH).parameter_values, "alpha": -0.5, "beta": beta}, 1.0)
+        assert line["generalized"] == pytest.approx([cf["R_x"], cf["R_y"]], rel=1e-12)
+        assert line["det_A"] == pytest.approx(-0.5 * eps, rel=1e-9)
+        assert line["lambda"] == pytest.approx(line["det_A"] * ev["multipliers"]["line"], rel=1e-12)
+        gaps.append(float(np.max(np.abs(np.array(line["generalized"]) - R1))))
+    # |R(eps) - R(0)| = O(eps): each step of 10 in eps shrinks the gap about tenfold
+    assert gaps[-1] < 1e-5 and all(b < 0.2 * a for a, b in zip(gaps, gaps[1:]))
+
+
 @pytest.mark.parametrize("alpha, beta, expect", [
-    (-0.5, -2.0, "along adj(A) grad f = (1, 2) with lambda = 0"),
-    (0.5, 2.0, "not determined by it (adj(A) grad f = 0)"),
+    (0.5, 2.0, "adj(A) grad f = 0"),
+    (0.5, 2.0, "the reaction is indeterminate"),
 ])
-def test_singular_transform_is_explained(alpha, beta, expect):
-    """alpha beta = 1 (two of the figures' grid points at k = 0.5): A is singular, so
-    R = A^-1 grad f lambda does not exist.  By the definition A R = lambda grad f (1.3) the
-    reaction at alpha = -0.5, beta = -2 lies in the null space of A, (1, 2), with lambda = 0
-    (the point on the line then has R = 0.4 G (1, 2) = (3.924, 7.848) for G = 9.81); at
-    alpha = 0.5, beta = 2 grad f is in the range of A and R is not fixed.  The message says
-    which, not "not differentiable ... gradient NaN"."""
+def test_singular_transform_without_direction_is_explained(alpha, beta, expect):
+    """alpha = 0.5, beta = 2: det A = 0 and adj(A) grad f = 0 -- grad f is in the range of A,
+    A R = lambda grad f leaves a family of reactions (and D = 0).  The message says which, not
+    "not differentiable ... gradient NaN"."""
     from nonideal.errors import MechanicsError
 
     model = load_model(PATH, parameters={"alpha": alpha, "beta": beta})

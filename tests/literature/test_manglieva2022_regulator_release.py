@@ -3,6 +3,7 @@ against the corrected (3.29), the controllability matrix W(t) (3.30)-(3.32) agai
 derivation, and optimal stabilization by the differential Riccati equation (3.33)-(3.37)."""
 
 import numpy as np
+import pytest
 from scipy.interpolate import CubicSpline
 
 from nonideal import gallery
@@ -61,3 +62,59 @@ def test_det_W_along_the_programme():
     assert star == np.float64(0.125) or abs(star - 0.125) < 1e-12
     assert abs(MOD.det_W(star, M1=0.75)) < 1e-12
     assert MOD.det_W(0.9 * star, M1=0.75) < 0 < MOD.det_W(1.1 * star, M1=0.75)
+
+
+def _model_m1():
+    from nonideal.modeling.modelfile import load_model
+
+    return load_model(gallery.HERE / MOD.FILE_M1)
+
+
+def test_M1_programme_3_10_and_W_before_the_lost_rank():
+    """M1 = 0.3 (fig. 3.2's numbers): the programme is the implicit (3.10), rho0(t) a Lambert-W
+    time law; on [0, 1] (before rho0 = 0.125) the library follows it, its W(t) is the derived
+    one and det W = (M2 R n rho0 - J2 M1)/(R m^3 D^2) (negative: rho0 < 0.125), rank 3."""
+    model = _model_m1()
+    p = model.parameter_values
+    prog = linearize_program(model, controls=["u1"], samples=81)
+    rho, rd = MOD.programme_m1(prog.t, p)
+    assert np.max(np.abs(prog.q["rho"] - rho)) < 1e-9 and np.max(np.abs(prog.qdot["rho"] - rd)) < 1e-9
+    assert MOD.t_of_rho(rho[-1], p) == pytest.approx(prog.t[-1], rel=1e-9)       # (3.10) itself
+    inner = slice(8, -8)
+    W = MOD.closed_forms_m1(prog.q["rho"], p)
+    assert np.max(np.abs(prog.W[inner] - W[inner])) < 1e-4 * np.max(np.abs(W[inner]))
+    ref = MOD.det_W(prog.q["rho"][inner], p, M1=p["M1"])
+    assert np.all(ref < 0)
+    assert np.max(np.abs(np.linalg.det(prog.W[inner]) - ref)) < 1e-4 * np.max(np.abs(ref))
+    assert np.all(prog.controllability_rank == 3)
+
+
+def test_M1_lost_rank_at_rho0_0_125_is_reported():
+    """Over [0, 2.5] the programme passes rho0* = J2 M1/(M2 R n) = 0.125 m at t* from (3.10)
+    (1.6762 s): det W changes sign there and the library stops with a MechanicsError (exit 3)
+    naming the instant and the state, instead of "rank 3" and a stabilization built on it."""
+    from nonideal.errors import MechanicsError
+
+    model = _model_m1()
+    p = model.parameter_values
+    star = p["J2"] * p["M1"] / (p["M2"] * p["R"] * MOD._n(p))
+    assert star == pytest.approx(0.125, rel=1e-12)
+    t_star = float(MOD.t_of_rho(star, p))
+    assert t_star == pytest.approx(1.67617, abs=1e-4)
+    with pytest.raises(MechanicsError) as err:
+        linearize_program(model, t_end=2.5, controls=["u1"], samples=201)
+    e = err.value
+    assert e.t == pytest.approx(t_star, abs=1e-4)
+    assert e.state["rho"] == pytest.approx(star, rel=1e-4)
+    assert "loses controllability" in str(e) and "det W changes sign" in str(e)
+
+
+def test_M1_lost_rank_cli_exit_3_and_runs_before_it():
+    from tests.helpers import run_cli
+
+    path = str(gallery.HERE / MOD.FILE_M1)
+    out = run_cli("stability", path, "--about", "program", "--controls", "u1", "--t-end", "2.5")
+    assert out.returncode == 3 and "rho = 0.125" in out.stderr and "t = 1.676" in out.stderr
+    assert out.stdout == ""
+    out = run_cli("stability", path, "--about", "program", "--controls", "u1")
+    assert out.returncode == 0 and "rank 3 to 3 of 3" in out.stdout

@@ -33,12 +33,12 @@ from typing import Sequence
 
 import numpy as np
 
-from ...errors import ModelError
+from ...errors import MechanicsError, ModelError
 from ...modeling.model import Model
 from .linear_system import Point, check_parameters, clean, ignorable_set, kernel_of, partition, state_matrices
 from .routh import analyse
 
-__all__ = ["ProgramLinearization", "linearize_program", "persidsky_bound"]
+__all__ = ["ProgramLinearization", "linearize_program", "persidsky_bound", "controllability_loss"]
 
 
 @dataclass(frozen=True)
@@ -296,6 +296,9 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
         for i in range(len(times)):
             sv = np.linalg.svd(W[i], compute_uv=False)
             ranks[i] = int(np.sum(sv > 1e-7 * sv.max())) if sv.max() > 0 else 0
+        loss = controllability_loss(times, W, ranks, nx)
+        if loss is not None:
+            raise _lost_rank(model, loss, times, traj, names_q)
     info = analyse(As[0], variables=[variables[i] for i in stay])
     frozen = {"eigenvalues": [[float(z.real), float(z.imag)] for z in info["eigenvalues"]],
               "polynomial": str(info["polynomial"]), "hurwitz": [float(h) for h in info["hurwitz"]]}
@@ -308,3 +311,49 @@ def linearize_program(model: Model, t_end: float | None = None, samples: int = 2
         controllability_rank=ranks, verdict=verdict, reason=reason, W=W, held=k.held,
         ignorable=tuple(names_q[j] for j in ign),
         dependent=tuple([names_q[j] for j in part.coords_D] + [names_v[j] for j in part.vel_D]), frozen=frozen)
+
+
+def controllability_loss(times: np.ndarray, W: np.ndarray, ranks: np.ndarray, nx: int) -> float | None:
+    """The first instant inside the interval where ``W(t) = [L1, ..., Ln]`` loses the full rank
+    it has elsewhere, or None.
+
+    With one control ``W`` is square and its rank drops where ``det W`` changes sign between
+    two samples (the instant is interpolated linearly); in any case a sample of lower rank
+    between samples of full rank counts.  A ``W`` that is nowhere of full rank is not a loss
+    (the rank reported says it).
+    """
+    if not ranks.size or ranks.max() < nx:
+        return None
+    if W.shape[1] == W.shape[2]:
+        # det W relative to |W|^n: its sign, free of the scale of the variables
+        det = np.array([np.linalg.det(w) / max(np.linalg.norm(w, 2), 1e-300) ** nx for w in W])
+        for i in range(len(times) - 1):
+            a, b = det[i], det[i + 1]
+            if a == 0.0 and 0 < i:
+                return float(times[i])
+            if a * b < 0:
+                return float(times[i] - a * (times[i + 1] - times[i]) / (b - a))
+    low = np.nonzero(ranks < nx)[0]
+    full = np.nonzero(ranks == nx)[0]
+    for i in low:
+        if full.min() < i < full.max():
+            return float(times[i])
+    return None
+
+
+def _lost_rank(model, t_star: float, times, traj, names_q) -> MechanicsError:
+    """The error for a first approximation that loses controllability at *t_star*."""
+    values = {c: float(np.interp(t_star, times, traj.q[:, j])) for j, c in enumerate(names_q)}
+    values.update({c + "'": float(np.interp(t_star, times, traj.qd[:, j])) for j, c in enumerate(names_q)})
+    state = ", ".join(f"{c} = {values[c]:.6g}" for c in names_q)
+    rates = ", ".join(f"{c}' = {values[c + chr(39)]:.6g}" for c in names_q)
+    servo = [c.name for c in model.constraints if c.reaction_kind == "servo"]
+    what = (f"the programmed motion of '{model.name}'"
+            + (f" (program {', '.join(repr(x) for x in servo)})" if servo else ""))
+    return MechanicsError(
+        f"{what} loses controllability of its first approximation at t = {t_star:.6g} ({state}; "
+        f"{rates}): the matrix W(t) = [L1, ..., Ln], L1 = B, L(i+1) = dLi/dt - A Li (Krasovskii; "
+        "Manglieva & Beknazarov 2022, (3.30)-(3.32)) is singular there (det W changes sign), so "
+        "'rank W = n' does not hold along the whole motion and the stabilization built on it "
+        "fails at that state; analyse an interval that ends before it (--t-end) or starts after it",
+        t=t_star, state=values)

@@ -1,8 +1,9 @@
 """Quasi-ideal constraints as a design tool (Briskin et al. 2021).
 
 A quasi-ideal constraint ``f(q, t) = 0`` has reactions ``R`` with ``A R = lambda grad f``
-(Briskin et al. 2021, (2.1)): ``R = A^-1 grad f lambda``.  The motion stays on the constraint
-for any invertible ``A`` with ``G M^-1 A^-1 G^T != 0``, while the direction of ``R`` -- the
+(Briskin et al. 2021, (2.1)): ``R = A^-1 grad f lambda``, formed as ``R = adj(A) grad f mu``
+with ``lambda = det(A) mu`` so that it stays finite where ``det A = 0``.  The motion stays on
+the constraint for any ``A`` with ``G M^-1 adj(A) G^T != 0``, while the direction of ``R`` -- the
 control -- depends on ``A``.  Splitting ``R`` as Painleve's split does (the part ``G^T lambda*``
 that does no work on the possible displacements, the *ideal part*, and the rest ``M V mu``,
 which does: the *control part*) shows what the transform adds to the ideal reaction.

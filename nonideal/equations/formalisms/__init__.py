@@ -127,4 +127,11 @@ def derive(model: Model, form: str = "lagrange1", rows: list[ConstraintRow] | No
                 "free flight); nonideal.derive puts them in their states at t0, as "
                 "'nonideal derive' does")
         eom = replace(eom, notes=(note,) + tuple(eom.notes))
+    quasi = [r.name for r in rows if r.reaction_kind == "quasi-ideal"]
+    if quasi:   # the multiplier of R = adj(A) grad f mu is not the paper's lambda: say so
+        note = ("quasi-ideal constraint(s) " + ", ".join(f"'{n}'" for n in quasi) + ": the reaction "
+                "is R = adj(A) grad f * lambda_<name> (finite where det A = 0), so lambda_<name> "
+                "here is mu, and Briskin et al. 2021's lambda in A R = lambda grad f is "
+                "det(A) * lambda_<name>")
+        eom = replace(eom, notes=tuple(eom.notes) + (note,))
     return eom

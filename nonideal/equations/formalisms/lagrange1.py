@@ -5,7 +5,8 @@
 Every constraint keeps its multiplier ``lambda_k`` and its reaction direction ``B_k``
 (``B_k = df_k/dq`` for an ideal holonomic constraint, ``d(phi_k)/dq'`` for an ideal
 nonholonomic one by Chetaev's rule, the given direction for a servo-constraint,
-``A^{-1} df/dq`` for a quasi-ideal one).  In redundant (e.g. Cartesian) coordinates these are
+``adj(A) df/dq`` for a quasi-ideal one, whose multiplier is then ``mu`` with the paper's
+``lambda = det(A) mu``).  In redundant (e.g. Cartesian) coordinates these are
 the equations of Manglieva & Beknazarov 2022, (1.18)/(1.53) and of Yushkov 1999, ch. I section 2; in generalized
 coordinates with nonholonomic constraints they are Routh's equations with multipliers.
 

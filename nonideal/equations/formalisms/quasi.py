@@ -270,6 +270,15 @@ def _undetermined(dyn, rows, radial) -> list:
     return out
 
 
+def _reparse(expr):
+    """SymPy's canonical form of *expr* through its text, every name read as a symbol (a
+    parameter called ``beta``, ``gamma`` or ``S`` is not SymPy's function or singleton)."""
+    import sympy as sp
+
+    names = {str(x): sp.Symbol(str(x)) for x in se.sympify(expr).free_symbols}
+    return sp.sympify(str(expr), locals=names)
+
+
 def invert(basis: SpeedBasis, dyn, form: str, columns: list | None = None, factor: int = 4,
            floor: int = 4000):
     """Solve ``W X = Y`` symbolically for ``Y = [I | -w]`` (default) or the given *columns*;
@@ -288,9 +297,9 @@ def invert(basis: SpeedBasis, dyn, form: str, columns: list | None = None, facto
     if n <= ADJUGATE_MAX and count_ops([x for row in Wl for x in row]) <= 400:
         import sympy as sp
 
-        Ws = sp.Matrix(n, n, lambda i, j: sp.sympify(str(Wl[i][j])) if Wl[i][j].free_symbols else sp.sympify(Wl[i][j]))
+        Ws = sp.Matrix(n, n, lambda i, j: _reparse(Wl[i][j]) if Wl[i][j].free_symbols else sp.sympify(Wl[i][j]))
         reduce = norm_reducer(dyn.model) or (lambda x: x)
-        det = sp.trigsimp(sp.factor(sp.sympify(str(reduce(se.sympify(Ws.det(method="berkowitz")))))))
+        det = sp.trigsimp(sp.factor(_reparse(reduce(se.sympify(Ws.det(method="berkowitz"))))))
         if det != 0:
             adj = Ws.adjugate(method="berkowitz")
             adj_se = [[reduce(se.sympify(sp.expand(adj[i, j]))) for j in range(n)] for i in range(n)]
