@@ -101,3 +101,14 @@ def test_other_steady_motions_found_by_the_library():
         assert lin.q["lam"] == pytest.approx(0, abs=1e-12) and lin.q["psi"] == pytest.approx(0, abs=1e-12)
     assert MOD.steady_motion({**MOD.DEFAULTS, "M1": 0.25}) is None
     assert MOD.steady_motion({**MOD.DEFAULTS, "d2": 0.005}) is None      # c2 d2 < c1 d1: omega_s^2 < 0
+
+
+def test_no_steady_motion_where_newton_runs_off_to_the_singular_radius():
+    """With M1 > 0 (M1 M2 > 0) no steady motion exists; Newton from (3.18) runs to the
+    singular radius x = c, where phi2' = r1 phi1'/(x - c) grows without bound and the rates
+    vanish only in the limit.  It is refused (exit 2) naming what grew -- before, a 'steady
+    motion' with phi2' = 2.08e14 was linearized and called unstable."""
+    out = run_cli("stability", NAME, "--about", "steady", "--at", "phi1'=omega0, x=x0", "--set", "M1=0.25")
+    assert out.returncode == 2
+    assert "phi2' = 2.07938e+14 grows without bound" in out.stderr
+    assert "no steady motion was found near the guess" in out.stderr

@@ -374,6 +374,9 @@ def linearize(model: Model, about: str = "equilibrium", at: Any = None, symbolic
         if exact:
             raise _not_steady(model, about, names_q, names_v, q, v, residual0, kept, rated, None)
         q, v, ok, best = _newton(pt, q, v, part, kept, rated, given, about, names_v, scale)
+        runaway = _runaway(guess_q, guess_v, q, v, names_q, names_v) if ok else None
+        if runaway:     # the rates vanish only in a limit (a mass growing without bound)
+            ok, best = False, (best[0], q, v, runaway)
         if not ok:
             raise _not_steady(model, about, names_q, names_v, guess_q, guess_v, residual0, kept, rated, best)
     a, lam, b = pt.motion(q, v)
@@ -527,6 +530,20 @@ def _newton(pt: Point, q, v, part, kept, rated, given, about, names_v, scale):
             qq, vv = pt.complete(qq, vv, part)
         held = []
     return q, v, False, best
+
+
+def _runaway(guess_q, guess_v, q, v, names_q, names_v) -> str | None:
+    """Where Newton's state ran off towards a singularity (a velocity or coordinate 1e6 times
+    the guess's size: the rates vanish there only as the mass matrix grows without bound, as
+    a regulator's wheel speed does when its contact radius x - c goes to zero), what grew."""
+    size = 1.0 + max(float(np.max(np.abs(guess_q), initial=0.0)), float(np.max(np.abs(guess_v), initial=0.0)))
+    grown = [(abs(x), f"{name} = {x:.6g}") for name, x in zip(names_v, v) if abs(x) > 1e6 * size]
+    grown += [(abs(x), f"{name} = {x:.6g}") for name, x in zip(names_q, q) if abs(x) > 1e6 * size]
+    if not grown:
+        return None
+    where = ", ".join(f"{c} = {x:.10g}" for c, x in zip(names_q, q))
+    return (f"{max(grown)[1]} grows without bound (at {where}): the rates vanish there only in "
+            "the limit, not at a steady motion")
 
 
 def _not_steady(model, about, names_q, names_v, q, v, R, kept, rated, best) -> NotAnEquilibrium:
