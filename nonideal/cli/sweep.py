@@ -23,7 +23,7 @@ JOURNAL_SUFFIX = ".journal"
 
 
 def add_parser(sub, ctx) -> None:
-    from ..analysis.studies.sweep import WHATS
+    from ..analysis.studies.sweep_points import WHATS  # (numpy-free: --help stays light)
 
     s = sub.add_parser(
         "sweep", help="a command's summary over a grid of parameter values",

@@ -68,6 +68,19 @@ class Motion:
         motion._sol = sol
         return motion
 
+    @classmethod
+    def in_phase(cls, solver, mode: Mode, system, t: float, y: np.ndarray, sol: np.ndarray) -> "Motion":
+        """:meth:`solved` for the many samples of one native phase: *system* is the mode's
+        (``system_of(solver.kernel, mode)``, looked up once for the phase), and no solve of
+        the solver is looked for (the states are the native loop's, never the solver's)."""
+        motion = cls.__new__(cls)
+        motion.solver, motion.mode, motion.system = solver, mode, system
+        motion.t, motion.y, motion.n = t, y, system.n
+        motion._lu = motion._piv = motion._solution = None
+        motion._values = motion._obs = motion._dyn = motion._kin = None
+        motion._sol = sol
+        return motion
+
     @property
     def q(self) -> np.ndarray:
         return self.y[:self.n]

@@ -108,25 +108,31 @@ def _solve(K, r, s, m):
 
 
 @njit(cache=True)
-def rhs(kern, t, y, w, ix, dy):
-    """dy = [q', q'', W'] of the mode whose gather is in ix; False if the system is singular."""
-    n, m, power, track, ns, nx, nz = ix[0], ix[1], ix[2], ix[3], ix[4], ix[5], ix[6]
+def _views(w, ix):
+    """The parts of the work array ``w`` and of the index array ``ix`` (views, made once per
+    phase rather than at every right-hand side)."""
+    n, m, ns, nx, nz = ix[0], ix[1], ix[4], ix[5], ix[6]
     s = n + m
     x = w[:nx]
     z = w[nx:nx + nz]
     K = w[nx + nz:nx + nz + s * s]
     r = w[nx + nz + s * s:nx + nz + s * s + s]
     bq = w[nx + nz + s * s + s:nx + nz + s * s + s + m]
+    return x, z, K, r, bq, ix[7:7 + ns], ix[7 + ns:7 + 2 * ns], ix[7 + 2 * ns:7 + 2 * ns + s]
+
+
+@njit(cache=True, inline='always')
+def _eval(kern, t, y, dy, x, z, K, r, bq, src, dst, rsrc, n, m, power, track):
+    """:func:`rhs` on the views of :func:`_views`."""
+    s = n + m
     x[0] = t
     for i in range(2 * n):
         x[1 + i] = y[i]
     kern(x.ctypes, z.ctypes)
-    K[:] = 0.0
-    src = ix[7:7 + ns]
-    dst = ix[7 + ns:7 + 2 * ns]
-    for k in range(ns):
+    for k in range(s * s):
+        K[k] = 0.0
+    for k in range(src.shape[0]):
         K[dst[k]] = z[src[k]]
-    rsrc = ix[7 + 2 * ns:7 + 2 * ns + s]
     for i in range(s):
         r[i] = z[rsrc[i]]
     for i in range(n, s):
@@ -155,35 +161,45 @@ def rhs(kern, t, y, w, ix, dy):
 
 
 @njit(cache=True)
-def _stages(kern, t, y, f, h, w, ix, K):
-    """One DOP853 step from (t, y) with derivative f: K rows 0..12 as SciPy's rk_step;
-    returns (y_new, ok)."""
+def rhs(kern, t, y, w, ix, dy):
+    """dy = [q', q'', W'] of the mode whose gather is in ix; False if the system is singular."""
+    x, z, K, r, bq, src, dst, rsrc = _views(w, ix)
+    return _eval(kern, t, y, dy, x, z, K, r, bq, src, dst, rsrc, ix[0], ix[1], ix[2], ix[3])
+
+
+@njit(cache=True, inline='always')
+def _f(kern, t, y, dy, V):
+    """The right-hand side on the views *V* of a phase (``_views(w, ix) + (n, m, power, track)``)."""
+    return _eval(kern, t, y, dy, V[0], V[1], V[2], V[3], V[4], V[5], V[6], V[7], V[8], V[9], V[10], V[11])
+
+
+@njit(cache=True)
+def _stages(kern, t, y, f, h, V, K, tmp, y_new):
+    """One DOP853 step from (t, y) with derivative f: K rows 0..12 as SciPy's rk_step, the
+    new state in y_new; False if the system is singular."""
     ny = y.shape[0]
-    K[0] = f
-    tmp = np.empty(ny)
+    for i in range(ny):
+        K[0, i] = f[i]
     for s in range(1, _STAGES):
         for i in range(ny):
             v = 0.0
             for k in range(s):
                 v += K[k, i] * _A[s, k]
             tmp[i] = y[i] + v * h
-        if not rhs(kern, t + _C[s] * h, tmp, w, ix, K[s]):
-            return tmp, False
-    y_new = np.empty(ny)
+        if not _f(kern, t + _C[s] * h, tmp, K[s], V):
+            return False
     for i in range(ny):
         v = 0.0
         for k in range(_STAGES):
             v += K[k, i] * _B[k]
         y_new[i] = y[i] + h * v
-    ok = rhs(kern, t + h, y_new, w, ix, K[_STAGES])
-    return y_new, ok
+    return _f(kern, t + h, y_new, K[_STAGES], V)
 
 
 @njit(cache=True)
-def _dense(kern, t_old, h, y_old, y_new, f_new, w, ix, K, F):
+def _dense(kern, t_old, h, y_old, y_new, f_new, V, K, F, tmp):
     """SciPy's Dop853DenseOutput coefficients F (7 x ny) of the step; K extended by 3 stages."""
     ny = y_old.shape[0]
-    tmp = np.empty(ny)
     for e in range(_AX.shape[0]):
         s = _STAGES + 1 + e
         for i in range(ny):
@@ -191,7 +207,7 @@ def _dense(kern, t_old, h, y_old, y_new, f_new, w, ix, K, F):
             for k in range(s):
                 v += K[k, i] * _AX[e, k]
             tmp[i] = y_old[i] + v * h
-        if not rhs(kern, t_old + _CX[e] * h, tmp, w, ix, K[s]):
+        if not _f(kern, t_old + _CX[e] * h, tmp, K[s], V):
             return False
     for i in range(ny):
         dlt = y_new[i] - y_old[i]
@@ -241,10 +257,16 @@ def phase(kern, t, y, f, h_abs, t_end, rtol, atol, max_step, w, ix, times, next_
     DOP853._step_impl; every accepted step recorded (times empty) or the dense output at the
     requested times.  Returns (status, t, y, f, h_abs, T, Y, DY, count, next_time, steps), DY the derivatives at the samples:
     status 0 reached t_end, 1 max_steps taken, 2 step too small, 3 singular system, 4 a step
-    shorter than tiny taken (the caller's watch of collapsing steps decides)."""
+    shorter than tiny taken (the caller's watch of collapsing steps decides).  No array is
+    allocated per step (the stages, the states and the dense output live in buffers made once)."""
     ny = y.shape[0]
+    V = _views(w, ix) + (ix[0], ix[1], ix[2], ix[3])
     K = np.empty((_STAGES + 1 + _AX.shape[0], ny))
     F = np.empty((7, ny))
+    tmp = np.empty(ny)
+    y = y.copy()          # the state (the caller's array is not modified)
+    y_new = np.empty(ny)  # the trial state; the two are swapped at each accepted step
+    f = f.copy()
     grid = times.shape[0] > 0
     cap = 256
     T = np.empty(cap)
@@ -273,8 +295,7 @@ def phase(kern, t, y, f, h_abs, t_end, rtol, atol, max_step, w, ix, times, next_
                 t_new = t_end
             h = t_new - t
             h_abs = abs(h)
-            y_new, ok = _stages(kern, t, y, f, h, w, ix, K)
-            if not ok:
+            if not _stages(kern, t, y, f, h, V, K, tmp, y_new):
                 status = 3
                 break
             e5 = 0.0
@@ -306,10 +327,10 @@ def phase(kern, t, y, f, h_abs, t_end, rtol, atol, max_step, w, ix, times, next_
         if status != 0:
             break
         steps += 1
-        f_new = K[_STAGES].copy()
+        f_new = K[_STAGES]  # (not overwritten by the dense output's stages)
         if grid:
             if next_time < times.shape[0] and times[next_time] <= t_new:
-                if not _dense(kern, t, h, y, y_new, f_new, w, ix, K, F):
+                if not _dense(kern, t, h, y, y_new, f_new, V, K, F, tmp):
                     status = 3
                     break
                 while status == 0 and next_time < times.shape[0] and times[next_time] <= t_new:
@@ -319,7 +340,7 @@ def phase(kern, t, y, f, h_abs, t_end, rtol, atol, max_step, w, ix, times, next_
                             T, Y, DY = _grow(T, Y, DY, count, cap)
                         T[count] = times[next_time]
                         _interpolate(times[next_time], t, h, y, F, Y[count])
-                        if not rhs(kern, T[count], Y[count], w, ix, DY[count]):
+                        if not _f(kern, T[count], Y[count], DY[count], V):
                             status = 3
                             break
                         count += 1
@@ -331,12 +352,14 @@ def phase(kern, t, y, f, h_abs, t_end, rtol, atol, max_step, w, ix, times, next_
                 cap *= 2
                 T, Y, DY = _grow(T, Y, DY, count, cap)
             T[count] = t_new
-            Y[count] = y_new
-            DY[count] = K[_STAGES]
+            for i in range(ny):
+                Y[count, i] = y_new[i]
+                DY[count, i] = f_new[i]
             count += 1
         t = t_new
-        y = y_new
-        f = f_new
+        for i in range(ny):
+            f[i] = f_new[i]
+        y, y_new = y_new, y
         if h < tiny and t < t_end:
             status = 4
             break

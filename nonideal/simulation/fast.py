@@ -26,6 +26,7 @@ from contextlib import contextmanager
 import numpy as np
 
 from ..modes.motion import Motion
+from ..modes.system import system_of
 from ..modes.types import Mode
 
 __all__ = ["NATIVE_STEPS", "NATIVE_CHUNK", "FastPhases", "deferred_signals"]
@@ -165,9 +166,15 @@ class FastPhases:
                 status, t, y, f, h_abs, T, Y, DY, count, nt, steps = nat.integrator.phase(
                     nat.kernel, t, y, f, h_abs, float(t_end), float(ode.rtol), atol, float(ode.max_step),
                     w, ix, grid, nt, NATIVE_CHUNK, tiny + 4e-16 * abs(t_end))
-            for k in range(count):  # without rows, the derivative holds the whole motion
-                motion = Motion.solved(solver, mode, T[k], Y[k], DY[k, n:2 * n]) if plain else None
-                emit(T[k], Y[k], mode, motion, times is None)
+            step = times is None
+            if plain:  # without rows, the derivative holds the whole motion
+                system = system_of(solver.kernel, mode)
+                QDD = DY[:, n:2 * n]
+                for k, tk in enumerate(T.tolist()):
+                    emit(tk, Y[k], mode, Motion.in_phase(solver, mode, system, tk, Y[k], QDD[k]), step)
+            else:
+                for k, tk in enumerate(T.tolist()):
+                    emit(tk, Y[k], mode, None, step)
             budget.advance(t, steps)
             if status != 1:
                 break

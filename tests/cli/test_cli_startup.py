@@ -1,5 +1,6 @@
 """The commands that need no SymPy answer without importing it (``--help``, ``--version``,
-``examples list``), and what they show without importing is what the imports would give."""
+``examples list``; nor NumPy), and what they show without importing is what the imports would
+give."""
 
 import subprocess
 import sys
@@ -18,6 +19,7 @@ try:
 except SystemExit:
     pass
 print('SYMPY-LOADED' if 'sympy' in sys.modules else 'SYMPY-NOT-LOADED', file=sys.stderr)
+print('NUMPY-LOADED' if 'numpy' in sys.modules else 'NUMPY-NOT-LOADED', file=sys.stderr)
 """
 
 
@@ -26,6 +28,7 @@ def test_light_commands_do_not_import_sympy(argv):
     proc = subprocess.run([sys.executable, "-c", PROBE.format(argv=argv)], capture_output=True,
                           text=True, env=cli_env(), timeout=120)
     assert "SYMPY-NOT-LOADED" in proc.stderr, proc.stderr
+    assert "NUMPY-NOT-LOADED" in proc.stderr, proc.stderr
     assert proc.stdout.strip()
 
 
