@@ -12,7 +12,9 @@ Run from the repository root::
    defaults; the ball settled into its soft contact first).  Reported: median and best wall
    time of each, the error of our event time against the closed form, the native vs Python
    difference of the event time and of the final state.
-2. **Rattleback** (gallery ``rattleback``, 5 s, rtol 1e-10) with Coulomb friction mu = 0.1
+2. **Stick-slip oscillator** (gallery ``stick-slip-oscillator``, k = 1e6, 0.1 s: 31 switches)
+   native and on the Python path: the cost of an event.
+3. **Rattleback** (gallery ``rattleback``, 5 s, rtol 1e-10) with Coulomb friction mu = 0.1
    against the same body rolling ideally (mu = inf): wall time of warm runs (default options:
    native after a phase's first 1000 steps; and ``native=True``), events, the size of the
    default JSON output, the native vs Python difference of the final state.
@@ -118,6 +120,21 @@ def rattleback(repeat: int) -> list[str]:
     ]
 
 
+def stick_slip(repeat: int) -> list[str]:
+    """The stiff stick-slip oscillator (gallery), 0.1 s: an event every ~3 ms."""
+    from nonideal.gallery import stick_slip_oscillator
+
+    model = stick_slip_oscillator.build(k=1e6, t_end=0.1)
+    med_n, best_n, tn = timed(lambda: nonideal.simulate(model, native=True), repeat, warm=1)
+    med_p, best_p, tp = timed(lambda: nonideal.simulate(model, native=False), repeat, warm=1)
+    gap = max(abs(a["t"] - b["t"]) for a, b in zip(tn.events, tp.events))
+    same = [e["type"] for e in tn.events] == [e["type"] for e in tp.events]
+    return [f"| stick-slip oscillator k = 1e6, 0.1 s, native=True | {ms(med_n)} ({ms(best_n)}) | native=False "
+            f"{ms(med_p)} ({ms(best_p)}) | {med_n / med_p:.2f} | {len(tn.events)} events "
+            f"({ms(med_n / len(tn.events))} an event natively, {ms(med_p / len(tp.events))} on the Python path); "
+            f"same sequence: {same}, instants within {gap:.1e} |"]
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer repeats")
@@ -126,6 +143,8 @@ def main(argv=None) -> None:
     print("| measurement | ours | peer | ratio | notes |")
     print("|---|---|---|---|---|")
     for row in sphere(repeat):
+        print(row, flush=True)
+    for row in stick_slip(3 if args.quick else 5):
         print(row, flush=True)
     for row in rattleback(3 if args.quick else 5):
         print(row, flush=True)

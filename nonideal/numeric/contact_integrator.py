@@ -10,10 +10,11 @@ outputs | contact outputs]``: the layout of the mode solver's buffer).
   (:mod:`nonideal.numeric.contact_system`): the mode's right-hand side and event values;
 * :func:`phase` -- DOP853 steps (SciPy's tableau, error norm and step-size control) as long as
   every step is one in which the hybrid loop's scan (:mod:`nonideal.simulation.guards`) would
-  find nothing: every guard armed and, at both ends, above :data:`PROBE_NEAR` times its change
-  across the step (its slopes at the ends included: tangent differences for the kinematic
-  guards, the force guards' rates), the contacts' residuals below the projection threshold
-  and the mass matrix definite.  A step that is not such a step is *not taken*: the loop
+  find nothing: every guard armed, positive at both ends and, where it comes within
+  :data:`PROBE_NEAR` times its change across the step of zero (its slopes at the ends
+  included: tangent differences for the kinematic guards, the force guards' rates), positive
+  at the scan's samples on the dense output without a dip the scan would minimize; the
+  contacts' residuals below the projection threshold and the mass matrix definite.  A step that is not such a step is *not taken*: the loop
   returns the state before it and the step size, and the hybrid loop takes that step with its
   scan (locating the event exactly) -- compiled code is left only where an event may be.
   After each step the force guards' rates bound the next one (:func:`~nonideal.simulation.
@@ -45,6 +46,8 @@ PROBE_NEAR = 2.0
 SLOPE_STEP = 1e-6
 RATE_STEP = 1e-3
 RESOLVE = 0.25
+PROBES = 3
+NEAR_END = 1e-3
 PROJECTION_TOL = 1e-10  # (nonideal.simulation.hybrid)
 _EPS = 2.220446049250313e-16
 # SciPy's DOP853 tableau (as nonideal.numeric.integrator)
@@ -129,6 +132,25 @@ def _grow(T, Y, count, cap):
     T2[:count] = T[:count]
     Y2[:count] = Y[:count]
     return T2, Y2
+
+
+@njit(cache=True)
+def _clear(s, g):
+    """Whether the samples g at the times s of a step show no event, as the hybrid loop's
+    scan (:meth:`StepScan._scan <nonideal.simulation.guards.StepScan>`) decides: no sign
+    change and no interior dip that its minimization would have to look into."""
+    for i in range(1, s.shape[0]):
+        if i < s.shape[0] - 1 and 0 < g[i] < g[i - 1] and g[i] < g[i + 1]:
+            if g[i] < max(g[i - 1], g[i + 1]) - g[i]:
+                return False
+            d01 = (g[i] - g[i - 1]) / (s[i] - s[i - 1])
+            curvature = ((g[i + 1] - g[i]) / (s[i + 1] - s[i]) - d01) / (s[i + 1] - s[i - 1])
+            slope = d01 + curvature * (s[i] - s[i - 1])
+            if g[i] - slope * slope / (4.0 * curvature) <= 0:
+                return False
+        if g[i - 1] > 0 >= g[i] or not math.isfinite(g[i]):
+            return False
+    return True
 
 
 @njit(cache=True)
@@ -254,6 +276,9 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
     dy = np.empty(ny)
     tmp = np.empty(ny)
     zb = np.empty(S[1].shape[0])
+    probe = np.zeros(ne, dtype=np.bool_)
+    at_s = np.empty(PROBES + 4)
+    gs = np.empty((PROBES + 4, ne))
     # the guards and rates at the start
     if not rhs(kern, S, t, y, dy):
         return 3, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v
@@ -340,6 +365,7 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
                 break
             guards(S, E, kb, sa)
             _rates(kern, S, E, t_new, y_new, f_new, gb, sb, h, rb, cb, knownb)
+            probe[:] = False
             for k in range(ne):
                 a, b = ga[k], gb[k]
                 if not (math.isfinite(a) and math.isfinite(b)):
@@ -354,9 +380,33 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
                     change = max(change, h * slope)
                 elif knowna[k] and knownb[k]:
                     change = max(change, h * max(abs(ra[k]), abs(rb[k])))
-                if not (min(a, b) > PROBE_NEAR * change and min(a, b) > 0.0):
+                probe[k] = not min(a, b) > PROBE_NEAR * change
+                if not (a > 0.0 and b > 0.0):
                     safe = False
                     break
+        if safe and probe.any():  # the scan's samples on the dense output
+            if not _dense(kern, S, t, h, y, y_new, f_new, K, F):
+                status = 3
+                break
+            hh = h / (PROBES + 1)
+            at_s[0], at_s[1] = t, t + NEAR_END * hh
+            for p in range(PROBES):
+                at_s[2 + p] = t + hh * (p + 1)
+            at_s[PROBES + 2], at_s[PROBES + 3] = t_new - NEAR_END * hh, t_new
+            for p in range(1, PROBES + 3):
+                _interpolate(at_s[p], t, h, y, F, tmp)
+                if not rhs(kern, S, at_s[p], tmp, dy):
+                    status = 3
+                    break
+                guards(S, E, gs[p], sa)
+            if status != 0:
+                break
+            for k in range(ne):
+                if probe[k]:
+                    gs[0, k], gs[PROBES + 3, k] = ga[k], gb[k]
+                    if not _clear(at_s, gs[:, k]):
+                        safe = False
+                        break
         if not safe:
             status = 5
             h_abs = h_try

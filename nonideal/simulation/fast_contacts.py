@@ -7,10 +7,11 @@ nothing: all that Python work (the step, the guard values at its ends, their slo
 the residuals) only proves that.  :class:`FastContacts` hands such a phase to
 :func:`nonideal.numeric.contact_integrator.phase`, which takes the same DOP853 steps with the
 same right-hand side (the saddle-point system with the friction columns, compiled with the
-contacts: :mod:`nonideal.numeric.native_contacts`) and makes the same tests natively; the
-first step in which the scan *could* find something (a guard within :data:`PROBE_NEAR
-<nonideal.simulation.guards.PROBE_NEAR>` times its change of zero, a residual to project, the
-mass matrix near singular) is not taken natively: the hybrid loop restarts at the state before
+contacts: :mod:`nonideal.numeric.native_contacts`) and makes the same tests natively (the
+guards at the ends of the step, their slopes and rates, the samples inside the step where the
+scan takes them); the first step in which the scan *could* find something (a sign change, a
+dip of a guard that the scan would minimize, a residual to project, the mass matrix near
+singular) is not taken natively: the hybrid loop restarts at the state before
 it with that step size and takes it with its scan, which locates the event exactly as without
 native code.  After such a hand-back the loop takes :data:`COOLDOWN` steps (doubled while
 the native code hands back at once) before it tries again.
@@ -62,6 +63,8 @@ class FastContacts:
         self._native = None
         self._arrays: dict = {}
         self.start()
+        if option and sim.contacts:
+            self.native  # load now: a compilation is not counted in a run's time budget
 
     @property
     def native(self):

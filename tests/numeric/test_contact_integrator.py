@@ -108,4 +108,6 @@ def test_the_native_tests_use_the_hybrid_loops_constants():
     assert contact_integrator.SLOPE_STEP == py_guards.SLOPE_STEP
     assert contact_integrator.RATE_STEP == py_guards.RATE_STEP
     assert contact_integrator.RESOLVE == py_guards.RESOLVE
+    assert contact_integrator.PROBES == py_guards.PROBES
+    assert contact_integrator.NEAR_END == py_guards.NEAR_END
     assert contact_integrator.PROJECTION_TOL == hybrid.PROJECTION_TOL
