@@ -109,6 +109,7 @@ def rattleback(repeat: int) -> list[str]:
         med_d, best_d, td = timed(lambda: nonideal.simulate(rough), repeat, warm=1)
         med_n, best_n, tn = timed(lambda: nonideal.simulate(rough, native=True), repeat, warm=1)
         med_p, best_p, tp = timed(lambda: nonideal.simulate(rough, native=False), repeat, warm=1)
+        med_in, best_in, _ = timed(lambda: nonideal.simulate(ideal, native=True), repeat, warm=1)
         size = len(td.to_json().encode())
     diff = max(np.abs(tn.q[-1] - tp.q[-1]).max(), np.abs(tn.qd[-1] - tp.qd[-1]).max())
     return [
@@ -117,6 +118,8 @@ def rattleback(repeat: int) -> list[str]:
         f"{len(td.t)} samples, JSON {size / 1e6:.2f} MB |",
         f"| rattleback mu = 0.1, native=True | {ms(med_n)} ({ms(best_n)}) | native=False {ms(med_p)} "
         f"({ms(best_p)}) | {med_n / med_p:.2f} | final state native vs Python {diff:.1e} |",
+        f"| rattleback mu = 0.1, native=True | {ms(med_n)} ({ms(best_n)}) | ideal rolling, native=True "
+        f"{ms(med_in)} ({ms(best_in)}) | {med_n / med_in:.2f} | |",
     ]
 
 
