@@ -31,6 +31,8 @@ tolerance and the events at the same instants to the accuracy of their location.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from ..modes.types import SEPARATED, SLIDE, STICK, Mode
@@ -61,6 +63,8 @@ class FastContacts:
         self.sim = sim
         self.option = option
         self._native = None
+        #: processor time spent loading (compiling) the native code, not counted in a run's budget
+        self.loading = 0.0
         self._arrays: dict = {}
         self.start()
         if option and sim.contacts:
@@ -76,12 +80,15 @@ class FastContacts:
             else:
                 from ..numeric.native_contacts import native_contacts_of
 
+                spent = time.thread_time()
                 with deferred_signals():
                     self._native = native_contacts_of(self.sim.kernel, self.sim.solver.ck) or False
+                self.loading += time.thread_time() - spent
         return self._native
 
     def start(self) -> None:
         """A run starts."""
+        self.loading = 0.0
         self._steps: dict = {}
         self._failed: set = set()
         self._wait = 0
@@ -200,6 +207,8 @@ class FastContacts:
             budget, residual_max, floor: float):
         """Integrate natively from the SciPy solver's state (module docstring).  Returns
         ``(t, y, h, next_time)``: where the hybrid loop goes on, with the step to take next."""
+        budget.start += self.loading  # a compilation is no part of the run's time
+        self.loading = 0.0
         S, contacts = self._system_arrays(mode)
         E = self._event_arrays(mode, events, tols, contacts)
         if E is None:
