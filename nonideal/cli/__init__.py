@@ -24,7 +24,7 @@ __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: the commands, each a module of this package
 COMMANDS = ("check", "derive", "evaluate", "simulate", "realizability", "friction_law", "stability",
-            "sweep", "examples")
+            "frequencies", "sweep", "examples")
 
 
 def version() -> str:

@@ -148,6 +148,12 @@ class Model:
         Points placed from other points (:mod:`nonideal.modeling.points`).  Frames and points
         are usable in every expression through the vector functions (``omega(B)``,
         ``vel(P)``, ``dot(a, b)`` ...; :attr:`kinematics`).
+    members : sequence of Member, optional
+        Elastic beams, rods and shafts expanded in Bubnov–Galerkin shape functions
+        (:mod:`nonideal.modeling.members`).  They are expanded at construction: their amplitudes
+        are appended to :attr:`coordinates`, their points to :attr:`points`, their energies
+        added to :attr:`kinetic` and :attr:`potential`; :attr:`elastic_members` lists them
+        afterwards and ``members`` is empty (so :meth:`replace` does not add them twice).
     """
 
     name: str
@@ -173,6 +179,7 @@ class Model:
     points: tuple[Any, ...] = ()
     speeds: Mapping[str, Any] = field(default_factory=dict)
     outputs: Mapping[str, Any] = field(default_factory=dict)
+    members: tuple[Any, ...] = ()
 
     # ------------------------------------------------------------------ construction
     def __post_init__(self):
@@ -220,7 +227,15 @@ class Model:
 
     def replace(self, **changes) -> "Model":
         """A new model with some fields changed (the model itself never changes)."""
-        return replace(self, **changes)
+        new = replace(self, **changes)
+        if "members" not in changes and "_members" in self.__dict__:
+            new.__dict__["_members"] = self.__dict__["_members"]
+        return new
+
+    @property
+    def elastic_members(self) -> tuple:
+        """The elastic members the model was built with (:class:`~nonideal.modeling.members.Member`)."""
+        return self.__dict__.get("_members", ())
 
     # ------------------------------------------------------------------ symbols
     @property

@@ -39,6 +39,7 @@ from .quantities import base_units, degree_warnings, with_units
 from .values import override_parameters  # noqa: F401  (--set; sweeps import it from here)
 from .frames import FIXED, ORIGIN, Frame
 from .points import Point
+from .members import read_members
 from .model import Constraint, Model, resolve_parameters
 from .speeds import read_speeds_and_outputs
 
@@ -49,7 +50,7 @@ __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
 FORMAT_VERSION = 1
 
 TOP_KEYS = {"model", "parameters", "coordinates", "energy", "forces", "bodies", "gravity", "loads", "constraints",
-            "contacts", "initial", "simulation", "forms", "units", "controls", "frames", "points", "speeds", "outputs"}
+            "contacts", "initial", "simulation", "forms", "units", "controls", "frames", "points", "speeds", "outputs", "members"}
 SECTION_KEYS = {
     "model": {"name", "format", "description", "source"},
     "coordinates": {"q"},
@@ -143,7 +144,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     check = Checker(problems)
     problems += unknown_keys(data, TOP_KEYS, "top level")
     problems += control_characters(data)
-    for key in ("constraints", "contacts", "bodies", "loads", "controls", "frames", "points"):
+    for key in ("constraints", "contacts", "bodies", "loads", "controls", "frames", "points", "members"):
         items = data.get(key)
         for i, item in enumerate(items if isinstance(items, list) else []):
             if isinstance(item, dict) and "description" in item and not isinstance(item["description"], str):
@@ -427,6 +428,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 loads.append(Torque(ld["name"], ld["torque"], ld.get("angle"), ld.get("body")))
 
     frames, points = read_frames_and_points(data, check, problems)
+    members = read_members(_array_of_tables(data, "members", problems), check, problems)
 
     sim = table("simulation")
     t0 = check.number(sim, "t0", "[simulation]", 0.0)
@@ -505,6 +507,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 frames=frames,
                 points=points,
                 speeds=speeds, outputs=outputs,
+                members=members,
             )
         except ModelError as exc:
             problems += [p for p in exc.problems if p not in problems]

@@ -20,6 +20,7 @@ from .quantities import base_units, with_units
 from .declarations import CONSTRAINT_TYPES, METHODS, ROOT_RULES, RESERVED_NAMES, Constraint, Parameter, SimulationSettings
 from .normalize_kinematics import (norm_constraints, normalize_kinematics, normalize_quaternion_initial,
                                    resolve_body)
+from .members import MemberExpansion
 from .high_order import cost_problem, initial_multiplier, normalize_controls, third_order_problem
 from .speeds import finish_speeds_and_outputs, normalize_speeds
 from .values import derivative_order, identically_zero, parameter_values, resolve_parameters, to_expr, value_problems
@@ -73,14 +74,26 @@ class Normalizer:
 
     def run(self) -> None:
         self.unknown: list[tuple[str, str]] = []
+        members = MemberExpansion(self.m.members, self.problems) if self.m.members else None
+        if members is not None:   # elastic members: their amplitudes are coordinates
+            self.set("coordinates", members.coordinates(tuple(self.m.coordinates)))
+            self.set("initial", members.initial(self.m.initial))
         self.names_and_parameters()
         if self.problems:
             return
+        if members is not None:   # their material points are points of the model
+            self.set("points", tuple(self.m.points) + tuple(members.points(self)))
         self.kinematics = normalize_kinematics(self)
         self.m.__dict__["_kinematics"] = self.kinematics
         normalize_speeds(self)       # the speed names may be used in every later expression
         self.bodies_and_loads()      # first: momentum(body) may appear in energies and forces
         self.energy_and_forces()
+        if members is not None:   # expanded once: a replaced model keeps the energies, not the members
+            T, V = members.energies(self)
+            self.set("kinetic", self.m.kinetic + T)
+            self.set("potential", self.m.potential + V)
+            self.m.__dict__["_members"] = tuple(members.members)
+            self.set("members", ())
         normalize_controls(self)
         self.constraints()
         self.contacts()

@@ -122,7 +122,7 @@ def test_unknown_keys_everywhere_with_suggestions(capsys):
     expected = [
         p + "top level: unknown key 'simulaton' (did you mean 'simulation'?); allowed: bodies, "
             "constraints, contacts, controls, coordinates, energy, forces, forms, frames, gravity, initial, "
-            "loads, model, outputs, parameters, points, simulation, speeds, units",
+            "loads, members, model, outputs, parameters, points, simulation, speeds, units",
         p + "[energy]: unknown key 'potentail' (did you mean 'potential'?); allowed: kinetic, "
             "potential",
         p + "[[constraints]] #1 'floor': unknown key 'expresion' (did you mean 'expr'?); "

@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from nonideal.modeling import modelfile
+from nonideal.modeling.members import MEMBER_KEYS
 from nonideal.modeling.modelfile import model_from_dict
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "MODEL_FORMAT.md"
@@ -27,7 +28,7 @@ def _section(doc: str, heading: str) -> str:
 
 def test_every_table_has_its_section(doc):
     for key in modelfile.TOP_KEYS:
-        arrays = {"bodies", "loads", "constraints", "contacts", "controls", "frames", "points"}
+        arrays = {"bodies", "loads", "constraints", "contacts", "controls", "frames", "points", "members"}
         _section(doc, f"[[{key}]]" if key in arrays else f"[{key}]")
 
 
@@ -40,6 +41,7 @@ def test_every_key_is_documented_in_its_section(doc):
     tables["[[loads]]"] = set().union(*modelfile.LOAD_KEYS.values())
     tables["[[frames]]"] = modelfile.FRAME_KEYS
     tables["[[points]]"] = modelfile.POINT_KEYS
+    tables["[[members]]"] = MEMBER_KEYS
     # in its table's section, or in a section of its own that names it in backquotes (the
     # sections that document a group of features together, e.g. `[[constraints]] losses`)
     missing = [f"{table} {key}" for table, keys in tables.items() for key in keys

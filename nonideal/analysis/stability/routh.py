@@ -86,7 +86,10 @@ def zero_cluster(A: np.ndarray, eig: np.ndarray) -> tuple[int, float]:
     ``(ZERO_SAFETY eps)^(1/k) ||A||`` and their sum below ``k ZERO_SAFETY eps ||A||``; the
     largest such ``k`` is returned (0: none).  A genuine small eigenvalue alone (a capsize
     mode near its critical speed) keeps its value: one eigenvalue is a zero only within the
-    rounding itself."""
+    rounding itself.  A zero eigenvalue makes ``A`` singular: when the smallest singular
+    value of ``A`` is above the rounding there is none (the conjugate pairs ``+-i w`` of a
+    stiff conservative system, frequencies from 7 to 800, also sum to zero and lie below the
+    k-th root for large k)."""
     A = np.asarray(A, float)
     eig = np.asarray(eig, complex)
     if eig.size == 0:
@@ -95,6 +98,8 @@ def zero_cluster(A: np.ndarray, eig: np.ndarray) -> tuple[int, float]:
     if norm == 0.0:
         return eig.size, 0.0
     eps = np.finfo(float).eps * ZERO_SAFETY
+    if float(np.linalg.svd(A, compute_uv=False).min()) > eps * norm:
+        return 0, 0.0
     order = np.argsort(np.abs(eig))
     for k in range(eig.size, 0, -1):
         part = eig[order[:k]]
