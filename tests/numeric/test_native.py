@@ -71,6 +71,14 @@ def test_requested_times_come_from_the_native_dense_output():
     assert np.allclose(got.qdd, ref.qdd, atol=1e-8)
 
 
+def test_every_native_step_keeps_the_acceleration_at_its_state():
+    """The samples of a native phase carry the loop's own q'' (no solve again): at every
+    kept state it is the pendulum's -g/l sin(q)."""
+    got = simulate(pendulum(1, q0=0.5), t_end=20.0, rtol=1e-10, atol=1e-12, native=True)
+    assert len(got.t) > 100
+    assert np.allclose(got.qdd[:, 0], -9.81 * np.sin(got.q[:, 0]), rtol=0, atol=1e-12)
+
+
 def test_a_phase_tiers_up_after_its_first_steps(monkeypatch):
     """native=None: SciPy's first NATIVE_STEPS steps, then natively -- the same result as
     either path alone (to rounding)."""
