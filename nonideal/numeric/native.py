@@ -341,3 +341,7 @@ def rhs(t, y, w, ix, dy):
     address is a constant of the process): compiled on first use."""
     return _rhs(kernel, t, y, w, ix, dy)
 '''
+
+
+# the writing, loading and checking of generated modules, shared with native_contacts.py
+kernel_body, write_atomic, import_module = _kernel_body, _write, _import

@@ -14,7 +14,9 @@ without bound.  Three limits keep every run bounded:
 * :class:`StepBudget`: after :data:`PROBE_STEPS` steps, and every as many after, the number of
   steps the run needs is extrapolated from its progress; above :data:`MAX_STEPS` the run is
   refused, naming the estimate and what to change.  Likewise its time (the processor time of
-  the process, so that a busy machine does not count), extrapolated once the run has taken
+  the thread that runs it, so that a busy machine does not count; not the process's: with
+  BLAS or numba threads alive, reading the process's clock sums over every thread and took
+  0.3-10 ms a call on a loaded machine, more than a whole short run), extrapolated once the run has taken
   :data:`PROBE_SECONDS`: above :data:`MAX_SECONDS` it is refused (a stiff
   spring, k = 1e9, integrated by Radau at rtol 1e-10 to t_end = 1 would take 3e6 steps of
   0.5 ms: 25 minutes; it is refused after a second or two).
@@ -106,7 +108,7 @@ class StepBudget:
         self.t0, self.t_end, self.source, self.limit = t0, t_end, source, limit
         self.seconds, self.method = MAX_SECONDS if seconds is None else seconds, method
         self.steps = 0
-        self.start = time.process_time()
+        self.start = time.thread_time()
 
     def step(self, t: float) -> None:
         self.steps += 1
@@ -116,7 +118,7 @@ class StepBudget:
 
     def _check(self, t: float, probe: bool) -> None:
         progress = (t - self.t0) / (self.t_end - self.t0)
-        elapsed = time.process_time() - self.start
+        elapsed = time.thread_time() - self.start
         if probe and self.steps / progress > self.limit:
             self._refuse(t, f"{self.steps} steps", f"about {self.steps / progress:.2g} steps",
                          f"{self.limit:.0e} steps")

@@ -42,6 +42,7 @@ from .extended import reduce
 from ..equations.high_order import extension_of
 from .rhs import phase_rhs
 from .fast import FastPhases
+from .fast_contacts import FastContacts
 from .projection import project_mode
 from .trajectory import Sample, Trajectory
 from .zeno import Accumulation, ImpactSeries
@@ -89,7 +90,8 @@ class Simulation:
         from the model's ``[simulation] singular`` (:mod:`nonideal.simulation.singular`).
     native : bool or None, optional
         Native code (numba, the extra ``fast``) for the phases it computes
-        (:mod:`nonideal.simulation.fast`): None after a phase's first
+        (:mod:`nonideal.simulation.fast`; the modes with contacts up to each step that may
+        hold an event: :mod:`nonideal.simulation.fast_contacts`): None after a mode's first
         :data:`~nonideal.simulation.fast.NATIVE_STEPS` steps, True at once, False never.
     """
 
@@ -125,6 +127,7 @@ class Simulation:
         #: the servo rows: each control's power is integrated with the motion, after the works
         self.control_rows = [i for i, r in enumerate(k.rows) if r.reaction_kind == "servo"]
         self.fast = FastPhases(self, native)
+        self.fast_contacts = FastContacts(self, native)  # the modes with contacts
 
     # ------------------------------------------------------------------ right-hand side
     def rhs(self, mode: Mode):  # the right-hand side f(t, y) of a phase in *mode* (rhs.phase_rhs)
@@ -334,6 +337,7 @@ class Simulation:
         atol = self.work_tolerances() if self.track else self.atol
         samples = SampleBuffer(self.max_samples)  # bounded: thinned past max_samples steps
         self.fast.start()
+        self.fast_contacts.start()
         budget = StepBudget(t0, t_end, source, method=self.method)
         events_log: list[dict] = []
         next_time = 0
@@ -379,6 +383,12 @@ class Simulation:
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
             restart, first = False, True
             while not restart:
+                if self.fast_contacts.ready(mode, events, armed, drift, watched):  # to a possible event
+                    t, y, h, next_time = self.fast_contacts.run(mode, ode, events, tols, t_end, h, times, next_time,
+                                                                emit, budget, residual_max,
+                                                                inertia.floor if inertia.active else -1.0)
+                    restart = True
+                    continue
                 go = self.fast.ready(mode, first, events, drift, watched)  # native code from here?
                 first = False
                 if go is not None:  # "rhs": restart on the native right-hand side; "phase": to the end

@@ -1,0 +1,466 @@
+"""Native phases of modes with contact rows (numba; the optional extra ``fast``): the
+saddle-point system with Coulomb friction columns, the event guards of the contacts, and
+SciPy's DOP853 looped over the steps in which no guard can fire.
+
+Generic code, compiled once and cached by numba for every model; the model enters as the
+native function of :mod:`nonideal.numeric.native_contacts` (``kernel(x, z)``, ``z = [kernel
+outputs | contact outputs]``: the layout of the mode solver's buffer).
+
+* :func:`~nonideal.numeric.contact_system.rhs` and :func:`~nonideal.numeric.contact_system.guards`
+  (:mod:`nonideal.numeric.contact_system`): the mode's right-hand side and event values;
+* :func:`phase` -- DOP853 steps (SciPy's tableau, error norm and step-size control) as long as
+  every step is one in which the hybrid loop's scan (:mod:`nonideal.simulation.guards`) would
+  find nothing: every guard armed, positive at both ends and, where it comes within
+  :data:`PROBE_NEAR` times its change across the step of zero (its slopes at the ends
+  included: tangent differences for the kinematic guards, the force guards' rates), positive
+  at the scan's samples on the dense output without a dip the scan would minimize; the
+  contacts' residuals below the projection threshold and the mass matrix definite.  A step that is not such a step is *not taken*: the loop
+  returns the state before it and the step size, and the hybrid loop takes that step with its
+  scan (locating the event exactly) -- compiled code is left only where an event may be.
+  After each step the force guards' rates bound the next one (:func:`~nonideal.simulation.
+  guards.step_limit`), as in the hybrid loop.
+
+Arrays (built by :mod:`nonideal.simulation.fast_contacts`): ``S = (x, z, K, r, piv, bq, fq,
+src, dst, rsrc, slide, slidef, ref, hasref, tang, hdr)`` the mode's system, ``hdr = [n, m,
+power, M_at, F_at]``; ``slide[k] = [layout row, U, d, W, mu]`` (positions in ``z``), ``slidef[k]
+= [sigma, direction, fallback direction (3), has fallback]``; ``tang[k] = [layout row, U]``;
+``E = (ev, evf, resid)`` the events, ``ev[k] = [type, layout row, first tangent row, d, slide,
+z position, mu_s position]`` (types: 0 touch, 1 lift, 2 slip start, 3 slip stop, 4 jam),
+``evf[k] = [sigma or direction, tolerance]``, ``resid[k] = [gap, gap rate, U, d]`` of each
+touching contact (``d = 0`` unless it sticks).
+"""
+
+import math
+
+import numpy as np
+
+from scipy.integrate import DOP853 as _D
+
+from .contact_system import definite, guards, residuals, rhs
+from .integrator import njit
+
+__all__ = ["rhs", "guards", "phase", "PROBE_NEAR", "SLOPE_STEP", "RATE_STEP", "RESOLVE"]
+
+# the hybrid loop's constants (nonideal.simulation.guards; tests check they agree)
+PROBE_NEAR = 2.0
+SLOPE_STEP = 1e-6
+RATE_STEP = 1e-3
+RESOLVE = 0.25
+PROBES = 3
+NEAR_END = 1e-3
+PROJECTION_TOL = 1e-10  # (nonideal.simulation.hybrid)
+_EPS = 2.220446049250313e-16
+# SciPy's DOP853 tableau (as nonideal.numeric.integrator)
+_A, _B, _C = _D.A.copy(), _D.B.copy(), _D.C.copy()
+_E3, _E5, _DD = _D.E3.copy(), _D.E5.copy(), _D.D.copy()
+_AX, _CX = _D.A_EXTRA.copy(), _D.C_EXTRA.copy()
+_STAGES = _B.shape[0]
+
+
+@njit(cache=True)
+def _rates(kern, S, E, t, y, dy, g, scales, span, rate, curv, known):
+    """The force guards' rates and curvatures at (t, y) (dy its derivative, g its values):
+    central differences over RATE_STEP span along the tangent (q', q''), as
+    :meth:`GuardRates.at <nonideal.simulation.guards.GuardRates.at>`."""
+    ev = E[0]
+    ne = ev.shape[0]
+    n = S[15][0]
+    known[:] = False
+    if not span > 0.0:
+        return
+    e = RATE_STEP * span
+    tan = np.zeros(y.shape[0])
+    for i in range(2 * n):
+        tan[i] = dy[i]
+    tmp = np.empty(y.shape[0])
+    out = np.empty(y.shape[0])
+    gp = np.empty(ne)
+    gm = np.empty(ne)
+    sc = np.empty(ne)
+    if not rhs(kern, S, t + e, y + e * tan, out):
+        return
+    guards(S, E, gp, sc)
+    for i in range(y.shape[0]):
+        tmp[i] = y[i] - e * tan[i]
+    if not rhs(kern, S, t - e, tmp, out):
+        return
+    guards(S, E, gm, sc)
+    for k in range(ne):
+        if ev[k, 0] == 0 or ev[k, 0] == 3:
+            continue
+        total = g[k] + gp[k] + gm[k]
+        if not math.isfinite(total):
+            continue
+        c = (gp[k] - 2.0 * g[k] + gm[k]) / (e * e)
+        noise = 16 * _EPS * scales[k] / (e * e)
+        rate[k] = (gp[k] - gm[k]) / (2.0 * e)
+        mag = max(abs(c) - noise, 0.0)
+        curv[k] = mag if c > 0 else (-mag if c < 0 else 0.0)
+        known[k] = True
+
+
+@njit(cache=True)
+def _limit(rate, curv, known, scales, max_step):
+    """The longest next step the force guards allow (step_limit of each), at most max_step."""
+    h = max_step
+    for k in range(rate.shape[0]):
+        if known[k]:
+            r, c, budget = abs(rate[k]), abs(curv[k]), RESOLVE * scales[k]
+            if r == 0.0 and c == 0.0:
+                continue
+            h = min(h, 2.0 * budget / (r + math.sqrt(r * r + 2.0 * c * budget)))
+    return h
+
+
+@njit(cache=True)
+def _interpolate(t, t_old, h, y_old, F, out):
+    """SciPy's Dop853DenseOutput at t."""
+    x = (t - t_old) / h
+    P = F.shape[0]
+    for i in range(y_old.shape[0]):
+        v = 0.0
+        for j in range(P):
+            v += F[P - 1 - j, i]
+            v *= x if j % 2 == 0 else 1 - x
+        out[i] = v + y_old[i]
+
+
+@njit(cache=True)
+def _grow(T, Y, count, cap):
+    T2 = np.empty(cap)
+    Y2 = np.empty((cap, Y.shape[1]))
+    T2[:count] = T[:count]
+    Y2[:count] = Y[:count]
+    return T2, Y2
+
+
+@njit(cache=True)
+def _clear(s, g):
+    """Whether the samples g at the times s of a step show no event, as the hybrid loop's
+    scan (:meth:`StepScan._scan <nonideal.simulation.guards.StepScan>`) decides: no sign
+    change and no interior dip that its minimization would have to look into."""
+    for i in range(1, s.shape[0]):
+        if i < s.shape[0] - 1 and 0 < g[i] < g[i - 1] and g[i] < g[i + 1]:
+            if g[i] < max(g[i - 1], g[i + 1]) - g[i]:
+                return False
+            d01 = (g[i] - g[i - 1]) / (s[i] - s[i - 1])
+            curvature = ((g[i + 1] - g[i]) / (s[i + 1] - s[i]) - d01) / (s[i + 1] - s[i - 1])
+            slope = d01 + curvature * (s[i] - s[i - 1])
+            if g[i] - slope * slope / (4.0 * curvature) <= 0:
+                return False
+        if g[i - 1] > 0 >= g[i] or not math.isfinite(g[i]):
+            return False
+    return True
+
+
+@njit(cache=True)
+def _stages(kern, S, t, y, f, h, K):
+    """One DOP853 step from (t, y) with derivative f (K rows as SciPy's rk_step)."""
+    ny = y.shape[0]
+    K[0] = f
+    tmp = np.empty(ny)
+    for s in range(1, _STAGES):
+        for i in range(ny):
+            v = 0.0
+            for k in range(s):
+                v += K[k, i] * _A[s, k]
+            tmp[i] = y[i] + v * h
+        if not rhs(kern, S, t + _C[s] * h, tmp, K[s]):
+            return tmp, False
+    y_new = np.empty(ny)
+    for i in range(ny):
+        v = 0.0
+        for k in range(_STAGES):
+            v += K[k, i] * _B[k]
+        y_new[i] = y[i] + h * v
+    ok = rhs(kern, S, t + h, y_new, K[_STAGES])
+    return y_new, ok
+
+
+@njit(cache=True)
+def _dense(kern, S, t_old, h, y_old, y_new, f_new, K, F):
+    """SciPy's Dop853DenseOutput coefficients F of the step; K extended by 3 stages."""
+    ny = y_old.shape[0]
+    tmp = np.empty(ny)
+    for e in range(_AX.shape[0]):
+        s = _STAGES + 1 + e
+        for i in range(ny):
+            v = 0.0
+            for k in range(s):
+                v += K[k, i] * _AX[e, k]
+            tmp[i] = y_old[i] + v * h
+        if not rhs(kern, S, t_old + _CX[e] * h, tmp, K[s]):
+            return False
+    for i in range(ny):
+        dlt = y_new[i] - y_old[i]
+        F[0, i] = dlt
+        F[1, i] = h * K[0, i] - dlt
+        F[2, i] = 2 * dlt - h * (f_new[i] + K[0, i])
+        for p in range(_DD.shape[0]):
+            v = 0.0
+            for k in range(_DD.shape[1]):
+                v += _DD[p, k] * K[k, i]
+            F[3 + p, i] = h * v
+    return True
+
+
+@njit(cache=True)
+def _references(S, y, z):
+    """The slip references of the two-component sliding contacts at a state whose contact
+    outputs are z (:meth:`ModeSolver.set_references <nonideal.modes.solver.ModeSolver.set_references>`)."""
+    slide, slidef, ref, hasref, hdr = S[10], S[11], S[12], S[13], S[15]
+    n = hdr[0]
+    qmax = 0.0
+    for i in range(n):
+        qmax = max(qmax, abs(y[n + i]))
+    for k in range(slide.shape[0]):
+        u0, d = slide[k, 1], slide[k, 2]
+        if d == 1:
+            continue
+        nrm = 0.0
+        for l in range(d):
+            nrm += z[u0 + l] * z[u0 + l]
+        nrm = math.sqrt(nrm)
+        if nrm > 1e-12 * (1.0 + qmax):
+            for l in range(d):
+                ref[k, l] = z[u0 + l] / nrm
+            hasref[k] = True
+        elif slidef[k, 5] != 0.0:
+            for l in range(d):
+                ref[k, l] = slidef[k, 2 + l]
+            hasref[k] = True
+        else:
+            hasref[k] = False
+
+
+@njit(cache=True)
+def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_max, floor,
+          times, next_time, max_steps, tiny):
+    """DOP853 from (t, y, f = y'(t)) towards t_end, the next step h_abs (at most step_max, the
+    force guards' limit; max_step the run's), while no event can happen (module docstring).
+
+    Returns (status, t, y, f, h_abs, step_max, T, Y, count, next_time, steps, res_p, res_v):
+    status 0 reached t_end, 1 max_steps taken, 2 step too small, 3 singular system, 4 a step
+    shorter than tiny taken, 5 the next step (h_abs) may hold an event: (t, y, f) is the
+    state before it.  Samples: every accepted step (times empty) or the dense output at the
+    requested times; res_p, res_v the largest residuals of the contacts at the steps."""
+    ny = y.shape[0]
+    hdr = S[15]
+    n = hdr[0]
+    ev, evf = E[0], E[1]
+    ne = ev.shape[0]
+    K = np.empty((_STAGES + 1 + _AX.shape[0], ny))
+    F = np.empty((7, ny))
+    grid = times.shape[0] > 0
+    cap = 256
+    T = np.empty(cap)
+    Y = np.empty((cap, ny))
+    count = 0
+    steps = 0
+    status = 0
+    res_p = 0.0
+    res_v = 0.0
+    exponent = -1.0 / 8.0
+    ga = np.empty(ne)
+    gb = np.empty(ne)
+    ka = np.empty(ne)
+    kb = np.empty(ne)
+    sa = np.empty(ne)
+    sb = np.empty(ne)
+    ra = np.zeros(ne)
+    ca = np.zeros(ne)
+    rb = np.zeros(ne)
+    cb = np.zeros(ne)
+    knowna = np.zeros(ne, dtype=np.bool_)
+    knownb = np.zeros(ne, dtype=np.bool_)
+    dy = np.empty(ny)
+    tmp = np.empty(ny)
+    zb = np.empty(S[1].shape[0])
+    probe = np.zeros(ne, dtype=np.bool_)
+    at_s = np.empty(PROBES + 4)
+    gs = np.empty((PROBES + 4, ne))
+    # the guards and rates at the start
+    if not rhs(kern, S, t, y, dy):
+        return 3, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v
+    guards(S, E, ga, sa)
+    _rates(kern, S, E, t, y, dy, ga, sa, h_last, ra, ca, knowna)
+    for k in range(ne):
+        if not ga[k] > evf[k, 1]:  # not armed: the hybrid loop watches it
+            return 5, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v
+    while t < t_end:
+        if steps >= max_steps:
+            status = 1
+            break
+        min_step = 10 * abs(np.nextafter(t, np.inf) - t)
+        h_try = h_abs
+        if h_try > step_max:
+            h_try = step_max
+        elif h_try < min_step:
+            h_try = min_step
+        rejected = False
+        while True:
+            if h_try < min_step:
+                status = 2
+                break
+            t_new = t + h_try
+            if t_new - t_end > 0:
+                t_new = t_end
+            h = t_new - t
+            h_try = abs(h)
+            y_new, ok = _stages(kern, S, t, y, f, h, K)
+            if not ok:
+                status = 3
+                break
+            e5 = 0.0
+            e3 = 0.0
+            for i in range(ny):
+                sc = atol[i] + max(abs(y[i]), abs(y_new[i])) * rtol
+                v5 = 0.0
+                v3 = 0.0
+                for k in range(_STAGES + 1):
+                    v5 += K[k, i] * _E5[k]
+                    v3 += K[k, i] * _E3[k]
+                e5 += (v5 / sc) ** 2
+                e3 += (v3 / sc) ** 2
+            if e5 == 0 and e3 == 0:
+                err = 0.0
+            else:
+                err = abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * ny)
+            if err < 1:
+                if err == 0:
+                    factor = 10.0
+                else:
+                    factor = min(10.0, 0.9 * err ** exponent)
+                if rejected:
+                    factor = min(1.0, factor)
+                h_next = h_try * factor
+                break
+            h_try *= max(0.2, 0.9 * err ** exponent)
+            rejected = True
+        if status != 0:
+            break
+        # the state at the end of the step (the last stage's): guards, residuals, mass matrix
+        f_new = K[_STAGES].copy()
+        guards(S, E, gb, sb)
+        zb[:] = S[1]
+        rp, rv = residuals(zb, E[2])
+        scale = 1.0
+        for i in range(2 * n):
+            scale = max(scale, 1.0 + abs(y_new[i]))
+        safe = max(rp, rv) <= PROJECTION_TOL * scale
+        if safe and floor >= 0.0:
+            safe = definite(zb, n, hdr[3], floor)
+        if safe:  # the slopes of the kinematic guards at the ends, the rates of the force guards
+            e = SLOPE_STEP * h
+            for i in range(ny):
+                tmp[i] = y[i] + e * K[0, i]
+            if not rhs(kern, S, t + e, tmp, dy):
+                status = 3
+                break
+            guards(S, E, ka, sa)
+            for i in range(ny):
+                tmp[i] = y_new[i] - e * f_new[i]
+            if not rhs(kern, S, t_new - e, tmp, dy):
+                status = 3
+                break
+            guards(S, E, kb, sa)
+            _rates(kern, S, E, t_new, y_new, f_new, gb, sb, h, rb, cb, knownb)
+            probe[:] = False
+            for k in range(ne):
+                a, b = ga[k], gb[k]
+                if not (math.isfinite(a) and math.isfinite(b)):
+                    if math.isinf(a) and math.isinf(b) and a > 0 and b > 0:
+                        continue  # an unbounded cone (ideal rolling)
+                    safe = False
+                    break
+                change = abs(b - a)
+                kind = ev[k, 0]
+                if kind == 0 or kind == 3:
+                    slope = max(abs((ka[k] - a) / e), abs((b - kb[k]) / e))
+                    change = max(change, h * slope)
+                elif knowna[k] and knownb[k]:
+                    change = max(change, h * max(abs(ra[k]), abs(rb[k])))
+                probe[k] = not min(a, b) > PROBE_NEAR * change
+                if not (a > 0.0 and b > 0.0):
+                    safe = False
+                    break
+        if safe and probe.any():  # the scan's samples on the dense output
+            if not _dense(kern, S, t, h, y, y_new, f_new, K, F):
+                status = 3
+                break
+            hh = h / (PROBES + 1)
+            at_s[0], at_s[1] = t, t + NEAR_END * hh
+            for p in range(PROBES):
+                at_s[2 + p] = t + hh * (p + 1)
+            at_s[PROBES + 2], at_s[PROBES + 3] = t_new - NEAR_END * hh, t_new
+            for p in range(1, PROBES + 3):
+                _interpolate(at_s[p], t, h, y, F, tmp)
+                if not rhs(kern, S, at_s[p], tmp, dy):
+                    status = 3
+                    break
+                guards(S, E, gs[p], sa)
+            if status != 0:
+                break
+            for k in range(ne):
+                if probe[k]:
+                    gs[0, k], gs[PROBES + 3, k] = ga[k], gb[k]
+                    if not _clear(at_s, gs[:, k]):
+                        safe = False
+                        break
+        if not safe:
+            status = 5
+            h_abs = h_try
+            break
+        steps += 1
+        res_p = max(res_p, rp)
+        res_v = max(res_v, rv)
+        if grid:
+            if next_time < times.shape[0] and times[next_time] <= t_new:
+                if not _dense(kern, S, t, h, y, y_new, f_new, K, F):
+                    status = 3
+                    break
+                while next_time < times.shape[0] and times[next_time] <= t_new:
+                    if times[next_time] >= t:
+                        if count == cap:
+                            cap *= 2
+                            T, Y = _grow(T, Y, count, cap)
+                        T[count] = times[next_time]
+                        _interpolate(times[next_time], t, h, y, F, Y[count])
+                        count += 1
+                    next_time += 1
+        else:
+            if count == cap:
+                cap *= 2
+                T, Y = _grow(T, Y, count, cap)
+            T[count] = t_new
+            Y[count] = y_new
+            count += 1
+        # the next step starts here: references, guards with them, rates, the step limit
+        S[1][:] = zb
+        _references(S, y_new, zb)
+        for k in range(ne):
+            if ev[k, 0] == 3 and ev[k, 3] > 1:
+                sl, at, d = ev[k, 4], ev[k, 5], ev[k, 3]
+                v = 0.0
+                if S[13][sl]:
+                    for l in range(d):
+                        v += zb[at + l] * S[12][sl, l]
+                else:
+                    for l in range(d):
+                        v += zb[at + l] * zb[at + l]
+                    v = math.sqrt(v)
+                gb[k] = v
+        ga[:] = gb
+        ra[:] = rb
+        ca[:] = cb
+        knowna[:] = knownb
+        step_max = _limit(rb, cb, knownb, sb, max_step)
+        t = t_new
+        y = y_new
+        f = f_new
+        h_abs = h_next
+        if h < tiny and t < t_end:
+            status = 4
+            break
+    return status, t, y, f, h_abs, step_max, T[:count], Y[:count], count, next_time, steps, res_p, res_v
+

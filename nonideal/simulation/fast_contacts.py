@@ -1,0 +1,254 @@
+"""Phases of modes with contacts in native code (numba, the optional extra ``fast``).
+
+The hybrid loop (:mod:`nonideal.simulation.hybrid`) steps SciPy's DOP853 and scans every
+step for events (:mod:`nonideal.simulation.guards`).  Most steps of a long run with contacts --
+a ball rolling, a block sliding, a body sticking -- contain no event, and the scan finds
+nothing: all that Python work (the step, the guard values at its ends, their slopes and rates,
+the residuals) only proves that.  :class:`FastContacts` hands such a phase to
+:func:`nonideal.numeric.contact_integrator.phase`, which takes the same DOP853 steps with the
+same right-hand side (the saddle-point system with the friction columns, compiled with the
+contacts: :mod:`nonideal.numeric.native_contacts`) and makes the same tests natively (the
+guards at the ends of the step, their slopes and rates, the samples inside the step where the
+scan takes them); the first step in which the scan *could* find something (a sign change, a
+dip of a guard that the scan would minimize, a residual to project, the mass matrix near
+singular) is not taken natively: the hybrid loop restarts at the state before
+it with that step size and takes it with its scan, which locates the event exactly as without
+native code.  After such a hand-back the loop takes :data:`COOLDOWN` steps (doubled while
+the native code hands back at once) before it tries again.
+
+Applies to Lagrange I with DOP853, contacts that touch, stick or slide by Coulomb's law
+(not the regularized laws, not friction torques), no unilateral constraint rows, no drift-
+checked constraint rows, no chart and no watched singular row, every event armed.  With
+``native=None`` (the default) a mode structure goes native after it has taken
+:data:`~nonideal.simulation.fast.NATIVE_STEPS` steps in the run; ``native=True`` at once.
+
+**Agreement.**  The native right-hand side is the index path's formulas with another order of
+the floating-point operations (LU without LAPACK): the two agree to rounding; the step
+sequences agree until DOP853's error estimate, which at tight tolerances is itself at the
+level of that rounding, picks a slightly different step; the motions then agree within the
+tolerance and the events at the same instants to the accuracy of their location.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..modes.types import SEPARATED, SLIDE, STICK, Mode
+from .events import ContactTouch, Jam, Lift, SlipStart, SlipStop
+from .fast import NATIVE_CHUNK, NATIVE_STEPS, deferred_signals
+
+__all__ = ["FastContacts", "COOLDOWN"]
+
+COOLDOWN = 4
+"""Steps the hybrid loop takes after a native phase handed a step back before it tries native
+code again (doubled, up to 64, while the native code hands back within two steps)."""
+
+_KINDS = {ContactTouch: 0, Lift: 1, SlipStart: 2, SlipStop: 3, Jam: 4}
+
+
+class FastContacts:
+    """The native path of the modes with contacts of one
+    :class:`~nonideal.simulation.hybrid.Simulation` (module docstring).
+
+    Parameters
+    ----------
+    sim : Simulation
+    option : bool or None
+        As :class:`~nonideal.simulation.fast.FastPhases`.
+    """
+
+    def __init__(self, sim, option: bool | None):
+        self.sim = sim
+        self.option = option
+        self._native = None
+        #: processor time spent loading (compiling) the native code, not counted in a run's budget
+        self.loading = 0.0
+        self._arrays: dict = {}
+        self.start()
+        if option and sim.contacts:
+            self.native  # load now: a compilation is not counted in a run's time budget
+
+    @property
+    def native(self):
+        """The model's :class:`~nonideal.numeric.native_contacts.NativeContacts` (False: numba
+        absent or not writable natively)."""
+        if self._native is None:
+            if self.option is False or not self.sim.contacts:
+                self._native = False
+            else:
+                from ..numeric.native_contacts import native_contacts_of
+
+                spent = time.thread_time()
+                with deferred_signals():
+                    self._native = native_contacts_of(self.sim.kernel, self.sim.solver.ck) or False
+                self.loading += time.thread_time() - spent
+        return self._native
+
+    def start(self) -> None:
+        """A run starts."""
+        self.loading = 0.0
+        self._steps: dict = {}
+        self._failed: set = set()
+        self._wait = 0
+        self._handed = None  # the mode of the last hand-back
+        self._cooldown = COOLDOWN
+        #: steps taken natively in the run, and the hand-backs to the hybrid loop
+        self.native_steps = 0
+        self.handbacks = 0
+
+    def _eligible(self, mode: Mode, events, drift, watched) -> bool:
+        sim = self.sim
+        solver = sim.solver
+        if (sim.method != "DOP853" or not solver.route.saddle_point or solver.charts is not None
+                or sim.control_rows or solver.unilateral or watched or drift[0] or drift[1]
+                or solver.ck.torques or not sim.track):
+            return False
+        if any(cs.state not in (SEPARATED, STICK, SLIDE) for _, cs in mode.contacts):
+            return False
+        if any(type(ev) not in _KINDS for ev in events):
+            return False
+        system = solver.system(mode)
+        if system.blocks is not None or (system.m and system.dependence is not False):
+            return False
+        return True
+
+    def ready(self, mode: Mode, events, armed, drift, watched) -> bool:
+        """Whether the next steps of this phase go native (called before each step)."""
+        if self.option is False or not self.sim.contacts:
+            return False
+        key = mode.structure
+        if self.option is None:
+            count = self._steps[key] = self._steps.get(key, 0) + 1
+            if count < NATIVE_STEPS:
+                return False
+        if self._wait > 0 and mode == self._handed:  # (a switch ends the wait)
+            self._wait -= 1
+            return False
+        if key in self._failed or not all(armed) or not self._eligible(mode, events, drift, watched):
+            return False
+        return bool(self.native)
+
+    # ------------------------------------------------------------------ arrays
+    def _system_arrays(self, mode: Mode):
+        key = mode
+        if key not in self._arrays:
+            sim = self.sim
+            solver, kernel, nat = sim.solver, sim.kernel, self.native
+            system = solver.system(mode)
+            ck = solver.ck
+            n, m = system.n, system.m
+            x = np.array(solver.x, dtype=float)
+            z = np.zeros(nat.nz)
+            for pos, value in nat.constants.items():
+                z[pos] = value
+            slide, slidef = [], []
+            for j, c, u, w, _shape, mu, _col in system.sliding:
+                cs = mode.contacts[c][1]
+                d = ck.dims[c]
+                direction = list(cs.direction or ())
+                slide.append([j, u.start, d, w.start, mu, c])
+                fallback = (direction + [0.0, 0.0, 0.0])[:3]
+                slidef.append([cs.sigma, direction[0] if d == 1 and direction else 0.0, *fallback,
+                               1.0 if direction else 0.0])
+            k = len(slide)
+            tang = [[j, system.tangent_slip[j]] for j in system.tangent]
+            F_at = kernel.dynamics.slices["F"][0].start
+            power = system.power.start if system.power is not None else -1
+            hdr = np.array([n, m, power, system.M_at, F_at], dtype=np.int64)
+            S = (x, z, np.zeros((n + m) ** 2), np.zeros(n + m), np.zeros(n + m, dtype=np.int64),
+                 np.zeros(m), np.zeros(k), system.src.astype(np.int64), system.dst.astype(np.int64),
+                 system.rsrc.astype(np.int64),
+                 np.array(slide, dtype=np.int64).reshape(k, 6)[:, :5].copy(),
+                 np.array(slidef, dtype=float).reshape(k, 6), np.zeros((k, 3)), np.zeros(k, dtype=np.bool_),
+                 np.array(tang, dtype=np.int64).reshape(len(tang), 2), hdr)
+            contacts = [row[5] for row in slide]
+            self._arrays[key] = (S, contacts)
+        return self._arrays[key]
+
+    def _event_arrays(self, mode: Mode, events, tols, contacts):
+        sim = self.sim
+        system, ck = sim.solver.system(mode), sim.solver.ck
+        base = sim.kernel.dynamics.size
+        at = {name: base + start for name, start in ck.at.items()}
+        ev, evf = [], []
+        for event, tol in zip(events, tols):
+            c = event.row
+            j = system.normal_col.get(c, -1)
+            d = ck.dims[c]
+            row = [_KINDS[type(event)], j, -1, d, -1, -1, -1]
+            value = 1.0
+            if isinstance(event, ContactTouch):
+                row[5] = at["gap"] + c
+            elif isinstance(event, Lift):
+                value = float(event.sigma)
+            elif isinstance(event, SlipStart):
+                cols = system.tangent_cols[c]
+                if cols != list(range(cols[0], cols[0] + d)):
+                    return None
+                row[2], row[6] = cols[0], at["mu_s"] + c
+            elif isinstance(event, SlipStop):
+                row[4] = contacts.index(c)
+                row[5] = at["U"] + ck.offsets[c]
+                value = float(event.direction)
+            ev.append(row)
+            evf.append([value, float(tol)])
+        resid = []
+        for c, (_, cs) in enumerate(mode.contacts):
+            if cs.state != SEPARATED:
+                resid.append([at["gap"] + c, at["gap_rate"] + c, at["U"] + ck.offsets[c],
+                              ck.dims[c] if cs.state == STICK else 0])
+        return (np.array(ev, dtype=np.int64).reshape(len(ev), 7), np.array(evf, dtype=float).reshape(len(evf), 2),
+                np.array(resid, dtype=np.int64).reshape(len(resid), 4))
+
+    # ------------------------------------------------------------------ run
+    def run(self, mode: Mode, ode, events, tols, t_end: float, h_last, times, next_time: int, emit,
+            budget, residual_max, floor: float):
+        """Integrate natively from the SciPy solver's state (module docstring).  Returns
+        ``(t, y, h, next_time)``: where the hybrid loop goes on, with the step to take next."""
+        budget.start += self.loading  # a compilation is no part of the run's time
+        self.loading = 0.0
+        S, contacts = self._system_arrays(mode)
+        E = self._event_arrays(mode, events, tols, contacts)
+        if E is None:
+            self._failed.add(mode.structure)
+            return float(ode.t), ode.y, float(ode.h_abs), next_time
+        ref, hasref = S[12], S[13]
+        for k, c in enumerate(contacts):
+            r = self.sim.solver.reference.get(c)
+            hasref[k] = r is not None
+            if r is not None:
+                ref[k, :len(r)] = r
+        nat = self.native
+        t, y, f, h_abs = float(ode.t), np.array(ode.y, dtype=float), np.array(ode.f, dtype=float), float(ode.h_abs)
+        atol = np.broadcast_to(np.asarray(ode.atol, dtype=float), y.shape).copy()
+        grid = np.asarray(times if times is not None else np.zeros(0), dtype=float)
+        nt = next_time if times is not None else 0
+        tiny = 1e-9 * min(t_end - budget.t0, 1.0)
+        step_max = float(min(ode.max_step, self.sim.max_step))
+        span = float(h_last) if h_last else h_abs
+        taken = 0
+        while True:
+            with deferred_signals():
+                (status, t, y, f, h_abs, step_max, T, Y, count, nt, steps, res_p, res_v) = nat.loop.phase(
+                    nat.kernel, S, E, t, y, f, h_abs, span, float(t_end), float(ode.rtol), atol,
+                    float(self.sim.max_step), step_max, float(floor), grid, nt, NATIVE_CHUNK,
+                    tiny + 4e-16 * abs(t_end))
+            for k in range(count):
+                emit(T[k], Y[k], mode, None, times is None)
+            taken += steps
+            budget.advance(t, steps)
+            residual_max["position"] = max(residual_max["position"], res_p)
+            residual_max["velocity"] = max(residual_max["velocity"], res_v)
+            if status != 1:
+                break
+        self.native_steps += taken
+        if status == 5:
+            self.handbacks += 1
+            self._cooldown = min(64, 2 * self._cooldown) if taken < 2 else COOLDOWN
+            self._wait = self._cooldown
+            self._handed = mode
+        elif status != 0:
+            self._failed.add(mode.structure)
+        return t, y, h_abs, (nt if times is not None else next_time)

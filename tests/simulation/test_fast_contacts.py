@@ -1,0 +1,107 @@
+"""Phases of modes with contacts in native code: the same events at the same instants and the
+same motion as the Python path, with the steps between events taken natively."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from nonideal import gallery
+from nonideal.gallery import stick_slip_oscillator
+from nonideal.modeling.modelfile import load_model
+from nonideal.numeric import native
+from nonideal.simulation import fast
+from nonideal.simulation.hybrid import Simulation
+
+from tests.helpers import PACKAGE_ROOT
+from tests.simulation.test_fast_forcing_stick_slip import block
+
+pytest.importorskip("numba")
+
+SPHERE = Path(PACKAGE_ROOT) / "benchmarks" / "friction_sphere.toml"
+OBLIQUE = {"x'": 2.0, "y'": 1.0, "a'": -20.0, "b'": 5.0}
+
+
+@pytest.fixture(autouse=True)
+def cache(tmp_path, monkeypatch):
+    monkeypatch.setenv(native.CACHE_ENV, str(tmp_path / "cache"))
+
+
+def _both(model, **kw):
+    """(Python path, native path, the native path's FastContacts) of one run."""
+    ref = Simulation(model, native=False).run(**kw)
+    sim = Simulation(model, native=True)
+    got = sim.run(**kw)
+    return ref, got, sim.fast_contacts
+
+
+def _same_events(ref, got, tol):
+    assert [e["type"] for e in got.events] == [e["type"] for e in ref.events]
+    assert [e.get("contact") for e in got.events] == [e.get("contact") for e in ref.events]
+    assert np.allclose([e["t"] for e in got.events], [e["t"] for e in ref.events], rtol=0, atol=tol)
+
+
+@pytest.mark.parametrize("initial", [{}, OBLIQUE], ids=["sliding along x", "oblique slip"])
+def test_the_friction_sphere_stops_slipping_at_the_same_instant(initial):
+    model = load_model(SPHERE)
+    ref, got, fc = _both(model, initial=initial)
+    assert fc.native_steps > 0 and fc.handbacks >= 1
+    assert len(got.events) == 1
+    _same_events(ref, got, 1e-12)
+    # rolling from the event on: v = v0 - (2/7) U0 whatever the law (the closed form)
+    qd0 = np.array([initial.get("x'", 2.0), initial.get("y'", 0.0)])
+    U0 = qd0 + 0.1 * np.array([-initial.get("b'", 0.0), initial.get("a'", 0.0)])
+    assert np.allclose(got.qd[-1][:2], qd0 - 2 / 7 * U0, rtol=0, atol=1e-12)
+    assert np.allclose(got.q[-1], ref.q[-1], rtol=0, atol=1e-10)
+    assert np.allclose(got.qd[-1], ref.qd[-1], rtol=0, atol=1e-10)
+
+
+def test_a_stiff_stick_slip_cycle_every_event_as_on_the_python_path():
+    model = stick_slip_oscillator.build(k=1e6, t_end=0.03)
+    ref, got, fc = _both(model, t_end=0.03)
+    assert len(ref.events) >= 8
+    _same_events(ref, got, 1e-10)
+    assert fc.native_steps > 0
+
+
+def test_short_slips_under_a_fast_force_every_event_as_on_the_python_path():
+    model = block(0.0, 8.0, 2000.0)
+    ref, got, fc = _both(model, t_end=0.02)
+    assert len(ref.events) >= 4
+    _same_events(ref, got, 1e-10)
+    assert np.allclose(got.q[-1], ref.q[-1], rtol=0, atol=1e-9)
+    assert fc.native_steps > 0
+
+
+def test_a_bouncing_ball_bounces_at_the_same_instants():
+    model = gallery.load("bouncing-ball")
+    ref, got, fc = _both(model, t_end=3.0)
+    assert len(ref.events) >= 4
+    _same_events(ref, got, 1e-9)
+    assert fc.native_steps > 0
+
+
+def test_a_native_run_is_reproducible_bit_for_bit():
+    model = load_model(SPHERE)
+    a = Simulation(model, native=True).run(initial=OBLIQUE)
+    b = Simulation(model, native=True).run(initial=OBLIQUE)
+    assert a.events[0]["t"] == b.events[0]["t"]
+    assert np.array_equal(a.q, b.q) and np.array_equal(a.qd, b.qd)
+
+
+def test_requested_times_come_from_the_native_dense_output():
+    model = load_model(SPHERE)
+    times = np.linspace(0.0, 1.0, 41)
+    ref = Simulation(model, native=False).run(times=times, initial=OBLIQUE)
+    got = Simulation(model, native=True).run(times=times, initial=OBLIQUE)
+    assert np.array_equal(got.t, times) and np.array_equal(ref.t, times)
+    assert np.allclose(got.q, ref.q, rtol=0, atol=1e-10)
+    assert np.allclose(got.qd, ref.qd, rtol=0, atol=1e-10)
+
+
+def test_by_default_a_short_run_stays_on_the_python_path():
+    model = load_model(SPHERE)
+    sim = Simulation(model)
+    sim.run(initial=OBLIQUE)
+    assert sim.fast_contacts.native_steps == 0
+    assert fast.NATIVE_STEPS > 100
