@@ -37,7 +37,7 @@ import numpy as np
 from scipy.integrate import DOP853 as _D
 
 from .contact_system import definite, guards, residuals, rhs
-from .integrator import njit
+from .integrator import _interpolate, error_norm, njit
 
 __all__ = ["rhs", "guards", "phase", "PROBE_NEAR", "SLOPE_STEP", "RATE_STEP", "RESOLVE"]
 
@@ -52,7 +52,7 @@ PROJECTION_TOL = 1e-10  # (nonideal.simulation.hybrid)
 _EPS = 2.220446049250313e-16
 # SciPy's DOP853 tableau (as nonideal.numeric.integrator)
 _A, _B, _C = _D.A.copy(), _D.B.copy(), _D.C.copy()
-_E3, _E5, _DD = _D.E3.copy(), _D.E5.copy(), _D.D.copy()
+_DD = _D.D.copy()
 _AX, _CX = _D.A_EXTRA.copy(), _D.C_EXTRA.copy()
 _STAGES = _B.shape[0]
 
@@ -110,19 +110,6 @@ def _limit(rate, curv, known, scales, max_step):
                 continue
             h = min(h, 2.0 * budget / (r + math.sqrt(r * r + 2.0 * c * budget)))
     return h
-
-
-@njit(cache=True)
-def _interpolate(t, t_old, h, y_old, F, out):
-    """SciPy's Dop853DenseOutput at t."""
-    x = (t - t_old) / h
-    P = F.shape[0]
-    for i in range(y_old.shape[0]):
-        v = 0.0
-        for j in range(P):
-            v += F[P - 1 - j, i]
-            v *= x if j % 2 == 0 else 1 - x
-        out[i] = v + y_old[i]
 
 
 @njit(cache=True)
@@ -311,21 +298,7 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
             if not ok:
                 status = 3
                 break
-            e5 = 0.0
-            e3 = 0.0
-            for i in range(ny):
-                sc = atol[i] + max(abs(y[i]), abs(y_new[i])) * rtol
-                v5 = 0.0
-                v3 = 0.0
-                for k in range(_STAGES + 1):
-                    v5 += K[k, i] * _E5[k]
-                    v3 += K[k, i] * _E3[k]
-                e5 += (v5 / sc) ** 2
-                e3 += (v3 / sc) ** 2
-            if e5 == 0 and e3 == 0:
-                err = 0.0
-            else:
-                err = abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * ny)
+            err = error_norm(K, y, y_new, atol, rtol, h)
             if err < 1:
                 if err == 0:
                     factor = 10.0

@@ -222,6 +222,26 @@ def _dense(kern, t_old, h, y_old, y_new, f_new, V, K, F, tmp):
     return True
 
 
+@njit(cache=True, inline='always')
+def error_norm(K, y, y_new, atol, rtol, h):
+    """DOP853's scaled error norm of a step (SciPy's DOP853._estimate_error_norm)."""
+    ny = y.shape[0]
+    e5 = 0.0
+    e3 = 0.0
+    for i in range(ny):
+        sc = atol[i] + max(abs(y[i]), abs(y_new[i])) * rtol
+        v5 = 0.0
+        v3 = 0.0
+        for k in range(_STAGES + 1):
+            v5 += K[k, i] * _E5[k]
+            v3 += K[k, i] * _E3[k]
+        e5 += (v5 / sc) ** 2
+        e3 += (v3 / sc) ** 2
+    if e5 == 0 and e3 == 0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * ny)
+
+
 @njit(cache=True)
 def _interpolate(t, t_old, h, y_old, F, out):
     x = (t - t_old) / h
@@ -298,21 +318,7 @@ def phase(kern, t, y, f, h_abs, t_end, rtol, atol, max_step, w, ix, times, next_
             if not _stages(kern, t, y, f, h, V, K, tmp, y_new):
                 status = 3
                 break
-            e5 = 0.0
-            e3 = 0.0
-            for i in range(ny):
-                sc = atol[i] + max(abs(y[i]), abs(y_new[i])) * rtol
-                v5 = 0.0
-                v3 = 0.0
-                for k in range(_STAGES + 1):
-                    v5 += K[k, i] * _E5[k]
-                    v3 += K[k, i] * _E3[k]
-                e5 += (v5 / sc) ** 2
-                e3 += (v3 / sc) ** 2
-            if e5 == 0 and e3 == 0:
-                err = 0.0
-            else:
-                err = abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * ny)
+            err = error_norm(K, y, y_new, atol, rtol, h)
             if err < 1:
                 if err == 0:
                     factor = 10.0
