@@ -37,7 +37,7 @@ import numpy as np
 from scipy.integrate import DOP853 as _D
 
 from .contact_system import definite, guards, residuals, rhs
-from .integrator import _interpolate, error_norm, njit
+from .integrator import error_norm, interpolate, njit
 
 __all__ = ["rhs", "guards", "phase", "PROBE_NEAR", "SLOPE_STEP", "RATE_STEP", "RESOLVE"]
 
@@ -367,7 +367,7 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
                 at_s[2 + p] = t + hh * (p + 1)
             at_s[PROBES + 2], at_s[PROBES + 3] = t_new - NEAR_END * hh, t_new
             for p in range(1, PROBES + 3):
-                _interpolate(at_s[p], t, h, y, F, tmp)
+                interpolate(at_s[p], t, h, y, F, tmp)
                 if not rhs(kern, S, at_s[p], tmp, dy):
                     status = 3
                     break
@@ -398,7 +398,7 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
                             cap *= 2
                             T, Y = _grow(T, Y, count, cap)
                         T[count] = times[next_time]
-                        _interpolate(times[next_time], t, h, y, F, Y[count])
+                        interpolate(times[next_time], t, h, y, F, Y[count])
                         count += 1
                     next_time += 1
         else:

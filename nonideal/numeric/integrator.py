@@ -243,7 +243,7 @@ def error_norm(K, y, y_new, atol, rtol, h):
 
 
 @njit(cache=True)
-def _interpolate(t, t_old, h, y_old, F, out):
+def interpolate(t, t_old, h, y_old, F, out):
     x = (t - t_old) / h
     ny = y_old.shape[0]
     for i in range(ny):
@@ -345,7 +345,7 @@ def phase(kern, t, y, f, h_abs, t_end, rtol, atol, max_step, w, ix, times, next_
                             cap *= 2
                             T, Y, DY = _grow(T, Y, DY, count, cap)
                         T[count] = times[next_time]
-                        _interpolate(times[next_time], t, h, y, F, Y[count])
+                        interpolate(times[next_time], t, h, y, F, Y[count])
                         if not _f(kern, T[count], Y[count], DY[count], V):
                             status = 3
                             break
