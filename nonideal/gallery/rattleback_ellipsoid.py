@@ -12,7 +12,12 @@ Behaviour (no dissipation).  Spun at -5 rad/s the pitching oscillation grows at 
 the spin; the spin stops and reverses at t_r = 2.765 s and reaches +5.27 rad/s at t = 6 s.
 Spun at +5 rad/s it keeps spinning (no reversal in 6 s).  Without dissipation the reversed spin
 eventually reverses again through the rolling mode (Garcia & Hubbard 1988; at t = 17.7 s here).
-The test compares the spin with an independent derivation: the Newton-Euler equations of the
+Linearized about the steady spin (``nonideal stability rattleback-ellipsoid --about steady --at
+"al=0, be=0, psi'=-0.5"``): at rest the rocking frequencies are the closed form of the small
+oscillations on the radii of curvature a^2/c and b^2/c, 33.83 and 107.21 rad/s; spun at -0.5
+rad/s the pitching mode grows at 0.213 1/s, spun at +0.5 rad/s the rolling mode at 0.0212 1/s
+-- ten times slower: the preferred direction.
+The test compares the spin and the linearization with an independent derivation: the Newton-Euler equations of the
 rolling ellipsoid written by hand and integrated with SciPy
 (tests/literature/test_kane1982_rattleback.py).
 """

@@ -107,3 +107,50 @@ def test_the_command_line_runs_the_file(tmp_path):
     d = json.loads(out.read_text())
     w = np.array(d["qdot"]["psi"]) + np.array(d["qdot"]["be"]) * np.sin(np.array(d["q"]["al"]))
     assert w[0] == -5.0 and w[1] < -1.0 and w[2] > 2.5       # reversed between 2 and 4 s
+
+
+def _stability(tmp_path, spin):
+    import json
+    import subprocess
+    import sys
+
+    out = tmp_path / f"s{spin}.json"
+    subprocess.run([sys.executable, "-m", "nonideal", "stability", example.NAME, "--about", "steady",
+                    "--at", f"al=0, be=0, psi'={spin}", "--json", str(out)], check=True, capture_output=True)
+    d = json.loads(out.read_text())
+    return np.array([complex(re, im) for re, im in d["eigenvalues"]]), d
+
+
+def _sorted(ev):
+    return np.array(sorted(ev, key=lambda z: (round(abs(z.imag), 6), z.imag)))
+
+
+def test_at_rest_the_rocking_frequencies_are_the_closed_form(tmp_path):
+    # small rocking about the lowest point: M x'' + K x = 0 with the radii of curvature of the
+    # bottom a^2/c (pitch, about y) and b^2/c (roll, about x) and l = c - h the height of G
+    p = P
+    l = p["c"] - p["h"]
+    M = np.array([[p["A"] + p["m"] * l ** 2, p["D"]], [p["D"], p["B"] + p["m"] * l ** 2]])
+    K = p["m"] * p["g"] * np.diag([p["b"] ** 2 / p["c"] - l, p["a"] ** 2 / p["c"] - l])
+    w = np.sqrt(np.sort(np.linalg.eigvals(np.linalg.solve(M, K)).real))
+    ev, _ = _stability(tmp_path, 0)
+    ev = ev[np.abs(ev) > 1e-6]                # at rest the spin is one more variable: a zero
+    assert len(ev) == 4 and np.max(np.abs(ev.real)) < 1e-9
+    assert np.sort(np.abs(ev.imag))[::2] == pytest.approx(w, rel=1e-9)    # 33.83, 107.21 rad/s
+
+
+@pytest.mark.parametrize("spin", [-5.0, -0.5, 0.5, 5.0])
+def test_the_linearized_spin_is_the_independent_one(tmp_path, spin):
+    rhs = _hand_derived_rhs(P)
+    y = np.array([0, 0, 1, 0, 0, spin], float)
+    h = 1e-6
+    J = np.column_stack([(rhs(0, y + h * e) - rhs(0, y - h * e)) / (2 * h) for e in np.eye(6)])
+    ref = np.linalg.eigvals(J)
+    ref = ref[np.abs(ref) > 1e-3]            # |n| = 1 and the family of spins: two zeros
+    ev, d = _stability(tmp_path, spin)
+    assert np.max(np.abs(_sorted(ev) - _sorted(ref))) < 1e-5
+    growing = max(ev, key=lambda z: z.real)
+    # spun one way the pitching mode (107 rad/s) grows ten times faster than the rolling mode
+    # (34 rad/s) grows when spun the other way: the rattleback's preferred direction
+    assert growing.real > 0 and (abs(growing.imag) > 100) == (spin < 0)
+    assert d["verdict"] == "unstable"
