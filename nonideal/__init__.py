@@ -22,6 +22,7 @@ _EXPORTS = {
     "Frame": "modeling.frames", "Point": "modeling.points",
     "Contact": "modeling.contacts", "Coulomb": "modeling.contacts", "IdealRolling": "modeling.contacts",
     "LinearizedCoulomb": "modeling.contacts", "Newton": "modeling.contacts",
+    "CoulombContensou": "modeling.contacts",
     "Plastic": "modeling.contacts", "RegularizedCoulomb": "modeling.contacts",
     "EquationsOfMotion": "equations.eom",
     "FormNotApplicable": "errors", "IndeterminateSystem": "errors",
@@ -40,7 +41,7 @@ _EXPORTS = {
 __all__ = [
     "Model", "Parameter", "Constraint", "SimulationSettings", "model_from_mechanics",
     "Particle", "PlanarBody", "RigidBody", "Force", "Torque", "Frame", "Point",
-    "Contact", "Coulomb", "IdealRolling", "RegularizedCoulomb", "LinearizedCoulomb", "Plastic", "Newton",
+    "Contact", "Coulomb", "IdealRolling", "RegularizedCoulomb", "LinearizedCoulomb", "CoulombContensou", "Plastic", "Newton",
     "EquationsOfMotion", "FORMS", "derive", "evaluate", "simulate", "load_model", "Simulation", "Trajectory",
     "NonidealError", "ModelError", "MechanicsError", "PainleveParadox", "IndeterminateSystem",
     "InconsistentInitialConditions", "IntegrationFailed", "SingularSystem", "FormNotApplicable",
@@ -69,7 +70,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
                          IntegrationFailed, MechanicsError, ModelError, NonidealError,
                          PainleveParadox, SingularSystem)
     from .modeling.bodies import Force, Particle, PlanarBody, RigidBody, Torque
-    from .modeling.contacts import (Contact, Coulomb, IdealRolling, LinearizedCoulomb, Newton,
+    from .modeling.contacts import (Contact, Coulomb, CoulombContensou, IdealRolling, LinearizedCoulomb, Newton,
                                     Plastic, RegularizedCoulomb)
     from .modeling.frames import Frame
     from .modeling.mechanics import model_from_mechanics

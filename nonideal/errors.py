@@ -26,6 +26,7 @@ __all__ = [
     "IntegrationFailed",
     "MechanicsError",
     "PainleveParadox",
+    "SetValuedFriction",
     "IndeterminateSystem",
     "NotAnEquilibrium",
     "UnitWarning",
@@ -213,6 +214,11 @@ class MechanicsError(NonidealError):
         for key, value in self.details.items():
             lines.append(f"  {key}: {value}")
         return "\n".join(lines)
+
+
+class SetValuedFriction(MechanicsError):
+    """A friction law without a sticking mode (Coulomb-Contensou over a patch) reached the state
+    where it is set-valued: the slip and the pivoting vanished together."""
 
 
 class PainleveParadox(MechanicsError):

@@ -53,9 +53,9 @@ def build(t_end: float = 5.0, pitch: float = 0.01, **params) -> Model:
         simulation={"t_end": t_end, "rtol": 1e-10, "atol": 1e-12})
 
 
-def spin(traj) -> np.ndarray:
+def spin(traj, roll: str = "a", pitch: str = "b") -> np.ndarray:
     """The angular velocity about the vertical, omega . e_z = psi' + b' sin(a) (R = Rz Rx Ry)."""
-    return traj.velocity("psi") + traj.velocity("b") * np.sin(traj.coordinate("a"))
+    return traj.velocity("psi") + traj.velocity(pitch) * np.sin(traj.coordinate(roll))
 
 
 def reversal_time(t, w) -> float | None:

@@ -40,8 +40,9 @@ staying inside the cone, and does not turn over (theta stays below 0.2 rad).  Th
 rigid point contact's answer under the exact law.  The inverting tops of the literature keep
 sliding: Or 1994 and Bou-Rabee et al. with viscous sliding friction, Ueda et al. with a
 "modified Coulomb law" continuous at U = 0, Leine & Glocker with Contensou's coupling of
-sliding and pivoting friction over a finite contact disk (a time-stepping scheme's numerical
-creep also keeps the slip alive).  The model file therefore uses the smooth Coulomb law
+sliding and pivoting friction over a finite contact disk -- the gallery's
+``tippe-top-contensou``, exact Coulomb friction over a patch of radius 0.5 mm, turns over (a
+time-stepping scheme's numerical creep also keeps the slip alive).  The model file therefore uses the smooth Coulomb law
 ``friction = "regularized"``: F = -mu N U/sqrt(abs(U)^2 + eps^2) with eps = 0.05 m/s (full
 Coulomb friction above ~0.1 m/s); the top turns over, theta passing pi/2 at t = 0.97 s and
 reaching 3.0 rad at t = 3 s, the centre of mass rising by 1.985 a, half the energy gone as heat.

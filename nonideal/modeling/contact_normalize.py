@@ -4,11 +4,12 @@ every problem reported by name (a part of :mod:`nonideal.modeling.normalize`).""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import sympy as sp
 
-from .contacts import TORQUES, Contact, Newton, Plastic, is_infinite, normalize_friction
+from .contacts import TORQUES, Contact, CoulombContensou, Newton, Plastic, is_infinite, normalize_friction
 from .shapes import Point, spin_and_rolling
 from .shapes.geometry import fold
 from .shapes.reading import shape_contact
@@ -89,6 +90,12 @@ def normalize_contacts(self) -> None:
             continue
         if friction is None:
             continue
+        if isinstance(friction, CoulombContensou):
+            pivoting = _pivoting(self, ct, where, len(slips))
+            if pivoting is None:
+                continue
+            slips.append(friction.radius * pivoting)     # the third slip row: rho omega_n
+            ct = replace(ct, spin=None)
         extra = _torques(self, ct, where, names)
         if extra is None:
             continue
@@ -126,6 +133,36 @@ def _velocity_row(self, value: Any, where: str, meaning: str):
 _MEANING = {"spin": "the relative spin angular velocity of the bodies about the contact normal",
             "rolling": "the relative rolling angular velocity of the bodies (its components about "
                        "axes of the tangent plane)"}
+
+
+def _pivoting(self, ct, where: str, n_slip: int):
+    """The angular velocity about the normal of a Coulomb-Contensou contact: derived for a contact
+    from geometry, the ``spin`` key otherwise; None with the problem recorded."""
+    if ct.spin_friction is not None:
+        self.problems.append(f"{where}: friction = \"contensou\" already gives the pivoting torque of the "
+                             "contact patch; remove spin_friction")
+        return None
+    if n_slip != 2:
+        self.problems.append(f"{where}: friction = \"contensou\" needs a contact in space, with two slip "
+                             f"components (got {n_slip}); use friction = \"coulomb\" for a planar contact")
+        return None
+    if ct.geometry is not None:
+        if ct.spin is not None:
+            self.problems.append(f"{where}: spin is derived from the shape and the surface; remove it")
+            return None
+        row = fold(spin_and_rolling(ct.geometry)[0])
+    elif ct.spin is None:
+        self.problems.append(f"{where}: friction = \"contensou\" needs the angular velocity about the "
+                             "normal: give spin = \"...\" (linear in the velocities) or declare the "
+                             "contact by body and shape")
+        return None
+    else:
+        row = _velocity_row(self, ct.spin, f"{where}: spin", _MEANING["spin"])
+    if row is not None and sp.expand(row) == 0:
+        self.problems.append(f"{where}: body '{ct.body}' cannot pivot on the surface with these "
+                             "coordinates (the spin vanishes); use friction = \"coulomb\"")
+        return None
+    return row
 
 
 def _torques(self, ct, where: str, names: set) -> dict | None:

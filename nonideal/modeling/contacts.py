@@ -9,8 +9,9 @@ A :class:`Contact` is declared by
   the contact point, linear in the velocities);
 * a **friction law** -- :class:`Coulomb` (exact, the default), :class:`IdealRolling`
   (``mu = inf``: no slip while the gap is closed, whatever the tangential force),
-  :class:`RegularizedCoulomb` (smooth sign, for comparison) or :class:`LinearizedCoulomb`
-  (the epsilon-linear law of Kalinin & Novozhilov);
+  :class:`RegularizedCoulomb` (smooth sign, for comparison), :class:`LinearizedCoulomb`
+  (the epsilon-linear law of Kalinin & Novozhilov) or :class:`CoulombContensou` (Coulomb's
+  law over a small circular contact patch: sliding and pivoting coupled, Contensou 1963);
 * an **impact law** for when the gap closes -- :class:`Plastic` (default) or
   :class:`Newton` with a restitution coefficient.
 """
@@ -36,6 +37,7 @@ __all__ = [
     "read_infinite",
     "RegularizedCoulomb",
     "LinearizedCoulomb",
+    "CoulombContensou",
     "Plastic",
     "Newton",
 ]
@@ -125,7 +127,7 @@ def read_infinite(law: Any, where: str) -> tuple[Any, str | None]:
     if isinstance(law, Coulomb) and law.mu_static is not None and is_infinite(law.mu_static):
         return None, (f"{where}: mu_static = inf with a finite mu = {law.mu!r}; a contact that never "
                       "slips is written mu = \"inf\" (ideal rolling), without mu_static")
-    if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)) and is_infinite(law.mu):
+    if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb, CoulombContensou)) and is_infinite(law.mu):
         return None, (f"{where}: mu = inf needs the exact law (friction = \"coulomb\"): a regularized "
                       "law with infinite mu has no meaning; for ideal rolling remove friction and eps")
     return law, None
@@ -164,6 +166,34 @@ class LinearizedCoulomb:
 
 
 @dataclass(frozen=True)
+class CoulombContensou:
+    """Coulomb's law integrated over a circular contact patch of radius ``radius`` under uniform
+    pressure (Contensou 1963; Zhuravlev 1998): every point of the patch slides at
+    ``v + omega_n x r`` against the local Coulomb traction ``-mu p (v + omega_n x r)/|..|``, and
+    the patch's resultant is a friction force and a pivoting torque about the normal,
+
+        F = -mu N f(d) v/|v|,   M = -mu N radius m(d) omega_n/|omega_n|,   d = |v|/(radius |omega_n|),
+
+    with f, m exact one-dimensional integrals (:func:`nonideal.numeric.contensou.contensou`):
+    f(0) = 0, f(1) = 8/(3 pi), f -> 1 and m(0) = 2/3, m -> 1/(4 d) as d -> oo.  While the body
+    pivots the sliding force is continuous in the slip (it falls linearly to zero as
+    ``-mu N v/(radius omega_n)``), so the slip of a spinning top need not stop -- the coupling that
+    turns a tippe top over (Leine & Glocker 2003).  No sticking mode: where the slip and the
+    pivoting both vanish the law is set-valued and the run stops with that diagnosis.
+
+    The contact's slip gets a third row, ``radius * omega_n`` (the pivoting as a velocity), whose
+    "friction force" times ``radius`` is the torque ``M``.
+    """
+
+    mu: Any
+    radius: Any
+
+    @property
+    def exact(self) -> bool:
+        return False
+
+
+@dataclass(frozen=True)
 class Plastic:
     """Plastic impact: the normal velocity of the contact becomes zero."""
 
@@ -189,7 +219,7 @@ class Contact:
         contact from geometry (``body`` and ``shape``).
     slip : sequence of 1 or 2 expressions
         Tangential slip velocities, linear in the velocities (not given with ``shape``).
-    friction : Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb
+    friction : Coulomb, IdealRolling, RegularizedCoulomb, LinearizedCoulomb or CoulombContensou
         ``Coulomb(math.inf)`` (or ``Coulomb("inf")``) is read as :class:`IdealRolling`.
     impact : Plastic or Newton
     bilateral : bool
@@ -307,6 +337,17 @@ def normalize_friction(norm, law: Any, where: str):
         if mu is None or mus is None:
             return None
         return Coulomb(mu, mus)
+    if isinstance(law, CoulombContensou):
+        mu = coefficient(law.mu, "mu")
+        radius = norm.expr(law.radius, f"{where}: patch_radius", 0)
+        if mu is None or radius is None:
+            return None
+        v = radius.xreplace(pvals)
+        if radius.free_symbols & set(norm.m.q) or (v.is_number and not float(v) > 0):
+            norm.problems.append(f"{where}: patch_radius must be a positive constant (the radius of "
+                                 f"the contact patch in m; got {law.radius})")
+            return None
+        return CoulombContensou(mu, radius)
     if isinstance(law, (RegularizedCoulomb, LinearizedCoulomb)):
         mu = coefficient(law.mu, "mu")
         if mu is None:
@@ -316,6 +357,7 @@ def normalize_friction(norm, law: Any, where: str):
             return None
         return type(law)(mu, float(law.eps))
     norm.problems.append(
-        f"{where}: friction must be Coulomb, IdealRolling, RegularizedCoulomb or LinearizedCoulomb"
+        f"{where}: friction must be Coulomb, IdealRolling, RegularizedCoulomb, LinearizedCoulomb or "
+        "CoulombContensou"
     )
     return None

@@ -6,7 +6,8 @@ The format (``format = 1``, reference: docs/MODEL_FORMAT.md) is extended -- neve
   assemble the kinetic and potential energy from geometry;
 * ``[[loads]]`` (``type = "force" | "torque"``) turned into generalized forces;
 * ``restitution`` for unilateral constraints (impact law; 0 = plastic, the default);
-* contacts: ``friction = "coulomb" | "regularized" | "linearized"``, ``eps``,
+* contacts: ``friction = "coulomb" | "regularized" | "linearized" | "contensou"``, ``eps``,
+  ``patch_radius``,
   ``restitution``, ``bilateral``; ``mu = "inf"`` (ideal rolling); friction torques;
 * ``[forms] independent`` -- independent coordinates for the reduced forms (for
   ``lagrange2`` those of the first chart, see :mod:`nonideal.charts`);
@@ -31,7 +32,7 @@ from typing import Any
 
 from .bodies import Force, Particle, PlanarBody, RigidBody, Torque
 from .contact_normalize import torque_keys
-from .contacts import Contact, Coulomb, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb, is_infinite
+from .contacts import Contact, Coulomb, CoulombContensou, LinearizedCoulomb, Newton, Plastic, RegularizedCoulomb, is_infinite
 from ..errors import ModelError, UnitWarning, did_you_mean, short_repr
 from .limits import check_nesting, check_size, read_text
 from .declarations import Control, Parameter
@@ -63,7 +64,7 @@ SECTION_KEYS = {
 CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral", "restitution",
                    "losses", "root", "cost", "description"}
 CONTROL_KEYS = {"name", "direction", "weight", "description"}
-CONTACT_KEYS = {"name", "gap", "slip", "mu", "mu_static", "friction", "eps", "restitution", "bilateral",
+CONTACT_KEYS = {"name", "gap", "slip", "mu", "mu_static", "friction", "eps", "patch_radius", "restitution", "bilateral",
                 "description", "body", "shape", "surface", "spin", "rolling", "spin_friction", "rolling_friction"}
 BODY_KEYS = {
     "particle": {"type", "name", "mass", "position", "point"},
@@ -80,7 +81,7 @@ LOAD_KEYS = {
     "force": {"type", "name", "point", "force"},
     "torque": {"type", "name", "torque", "angle", "body"},
 }
-FRICTION_LAWS = ("coulomb", "regularized", "linearized")
+FRICTION_LAWS = ("coulomb", "regularized", "linearized", "contensou")
 
 
 def load_model(path: str | Path, parameters: Mapping[str, Any] | None = None) -> Model:
@@ -310,9 +311,13 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
         if not isinstance(law, str) or law not in FRICTION_LAWS:
             problems.append(f"{where}: friction {law!r} unknown"
                             f"{did_you_mean(str(law), FRICTION_LAWS)}; use \"coulomb\", "
-                            "\"regularized\" or \"linearized\"")
+                            "\"regularized\", \"linearized\" or \"contensou\"")
             continue
         mu = c.get("mu", 0)
+        if "patch_radius" in c and law != "contensou":
+            problems.append(f"{where}: patch_radius applies to friction = \"contensou\" only; remove it "
+                            "or set friction = \"contensou\"")
+            continue
         if law == "coulomb":
             if "eps" in c and is_infinite(mu):
                 problems.append(f"{where}: eps has no meaning for ideal rolling (mu = \"inf\"); "
@@ -321,6 +326,16 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
                 problems.append(f"{where}: eps applies to the regularized and linearized laws "
                                 "only; remove it or set friction = \"regularized\"")
             friction = Coulomb(mu, c.get("mu_static"))
+        elif law == "contensou":
+            extra = [k for k in ("eps", "mu_static") if k in c]
+            friction = None if extra or "patch_radius" not in c or not check.expr(c, "patch_radius", where) \
+                else CoulombContensou(mu, c["patch_radius"])
+            if extra or "patch_radius" not in c:
+                problems.append(f"{where}: the contensou law takes mu and patch_radius only; remove {extra[0]}"
+                                if extra else f"{where}: friction = \"contensou\" needs patch_radius (the "
+                                "radius of the circular contact patch in m, e.g. patch_radius = 5e-4)")
+            if friction is None:
+                continue
         else:
             if "eps" not in c:
                 problems.append(f"{where}: the {law} friction law needs eps (a slip velocity "

@@ -25,9 +25,10 @@ import numpy as np
 
 from ..numeric.consistency import initial_branch
 from ..numeric.contact_kernel import contact_kernel_of
-from ..modeling.contacts import Coulomb, LinearizedCoulomb, RegularizedCoulomb
+from ..modeling.contacts import Coulomb, CoulombContensou, LinearizedCoulomb, RegularizedCoulomb
+from ..numeric.contensou import contensou_shape
 from ..equations.dynamics import dynamics_of
-from ..errors import FormNotApplicable
+from ..errors import FormNotApplicable, SetValuedFriction
 from ..equations.formalisms import derive
 from ..numeric.kernel import FormSystem, Kernel, SingularMatrix, max_abs, solve_saddle
 from .diagnosis import DENSE_DIAGNOSIS_MAX, diagnose_singular
@@ -163,6 +164,15 @@ class ModeSolver:
                 return U / np.sqrt(nrm * nrm + law.eps * law.eps)
             if isinstance(law, LinearizedCoulomb):
                 return U / law.eps if nrm <= law.eps else U / nrm
+            if isinstance(law, CoulombContensou):
+                s = contensou_shape(U)
+                if s is None:
+                    raise SetValuedFriction(
+                        f"contact '{self.ck.names[c]}': the slip and the pivoting of its patch vanished "
+                        "together; Coulomb-Contensou friction is set-valued there (the contact sticks), "
+                        "which this law has no mode for -- use friction = \"coulomb\" with "
+                        "spin_friction for a body that comes to rest")
+                return s
             return np.zeros(len(U))  # Coulomb's law: a frictionless contact
         if len(U) == 1:
             return np.array(cs.direction, dtype=float)

@@ -30,7 +30,7 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from ..errors import MechanicsError, PainleveParadox, SingularSystem
+from ..errors import MechanicsError, PainleveParadox, SetValuedFriction, SingularSystem
 from .system import compliance_of
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, ContactState, Mode
 from .solver import ModeSolver
@@ -292,6 +292,8 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
             motion = solver.motion(t, y, mode, kin)
             try:
                 qdd = motion.qdd
+            except SetValuedFriction:
+                raise
             except (SingularSystem, MechanicsError) as exc:
                 singular.append(exc)
                 continue

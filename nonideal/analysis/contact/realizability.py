@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from ...numeric.consistency import complete_state
-from ...modeling.contacts import Coulomb, IdealRolling, LinearizedCoulomb, RegularizedCoulomb
+from ...modeling.contacts import Coulomb, CoulombContensou, IdealRolling, LinearizedCoulomb, RegularizedCoulomb
 from ...errors import ModelError, did_you_mean
 from ...modeling.model import Model
 from ...modes.types import SEPARATED, SMOOTH, STICK, ContactState, Mode
@@ -209,6 +209,18 @@ def _assess(solver, sol, mode, t=None, q=None, qd=None) -> dict[str, ContactReal
     return out
 
 
+def _refuse_patches(model: Model) -> None:
+    """Coulomb-Contensou contacts stick inside a set of force and pivoting torque together, not
+    inside the friction circle tested here: refused rather than answered with the circle."""
+    for c in model.contacts:
+        if isinstance(c.friction, CoulombContensou):
+            raise ModelError(f"realizability: contact '{c.name}' uses the Coulomb-Contensou law; its "
+                             "sticking set couples the friction force with the pivoting torque and is "
+                             "not the friction circle this analysis tests -- use friction = \"coulomb\" "
+                             "(with spin_friction for the pivoting) to assess sticking",
+                             None if model.source == "<api>" else model.source)
+
+
 def realizability(model: Model, at: Mapping[str, float] | None = None, t: float | None = None,
                   contacts=None, parameters: Mapping[str, float] | None = None) -> RealizabilityReport:
     """Friction needed to keep the touching contacts sticking at a state, vs ``mu_s N``.
@@ -224,6 +236,7 @@ def realizability(model: Model, at: Mapping[str, float] | None = None, t: float 
     if not model.contacts:
         raise ModelError("realizability: the model has no [[contacts]]",
                          None if model.source == "<api>" else model.source)
+    _refuse_patches(model)
     if contacts is not None:
         names = [c.name for c in model.contacts]
         for c in contacts:

@@ -37,7 +37,8 @@ from typing import Mapping
 import sympy as sp
 
 from ...errors import ModelError
-from ...modeling.contacts import Coulomb, IdealRolling, LinearizedCoulomb, RegularizedCoulomb, torques
+from ...modeling.contacts import (Coulomb, CoulombContensou, IdealRolling, LinearizedCoulomb, RegularizedCoulomb,
+                                  torques)
 from ...modeling.declarations import Constraint
 from ...modeling.model import Model
 from ...modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
@@ -177,6 +178,10 @@ def _friction_direction(contact, cs, slips):
         eps = sp.sympify(law.eps)
         size = sp.sqrt(sum(U ** 2 for U in slips) + eps ** 2)
         return [U / size for U in slips]
+    if isinstance(law, CoulombContensou):
+        raise ModelError(f"stability: contact '{contact.name}' uses the Coulomb-Contensou law, whose force "
+                         "is the integral f(d) of the patch (no closed form to differentiate); linearize "
+                         "the model with friction = \"coulomb\" or \"regularized\"")
     if isinstance(law, LinearizedCoulomb):
         raise ModelError(f"stability: contact '{contact.name}' uses the epsilon-linear law, which is "
                          "not differentiable where |U| = eps; linearize the model with the exact law "
