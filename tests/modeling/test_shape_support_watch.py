@@ -117,3 +117,12 @@ def test_the_command_line_exits_3_naming_the_contact_and_time(tmp_path):
     assert out.returncode == 3
     assert "contact 'table'" in out.stderr + out.stdout and "loses its unique support point" in out.stderr + out.stdout
     assert not (tmp_path / "out.csv").exists()
+
+
+def test_a_rolling_coin_falling_flat_is_refused_too():
+    # rolling without slipping (the compiled contacts loop may carry the phase): refused at the
+    # sample or step where it lands, not continued through the singular support point
+    model = model_from_dict(tomllib.loads(COIN.replace("mu = 0", 'mu = "inf"')), "coin_roll.toml")
+    with pytest.raises(SingularMotion, match="contact 'table'") as info:
+        simulate(model, times=np.linspace(0.0, 0.1, 601))
+    assert 0.02 < info.value.t < 0.05 and info.value.state["theta"] > 0
