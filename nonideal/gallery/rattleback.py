@@ -9,6 +9,12 @@ spin with pitching and rolling.  The contact is declared by the shape alone (``p
 with ``center = [0, 0, -h]``) and rolls without slipping (``mu = "inf"``); the library derives
 the support point, the gap and the rolling rows.
 
+The moments A, B, C are Kane & Levinson's 1982 values (2, 16, 17 cm^2 per unit mass) and h their
+height of the centre of mass over the bottom; the radii of curvature and the misalignment delta
+are the file's own (Kane & Levinson's ellipsoid has radii of curvature a^2/c = 2 m and b^2/c =
+4.5 cm at its lowest point and a misalignment of -0.0143 rad: the ``rattleback-ellipsoid``
+example).
+
 Behaviour (no dissipation: energy is conserved).  Spun one way (here w0 < 0) from a small
 pitch, the pitching oscillation grows exponentially at the expense of the spin, the spin stops
 and reverses (t_r ~ 2.8 s for the data of the file); spun the other way it keeps spinning

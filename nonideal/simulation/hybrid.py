@@ -29,6 +29,7 @@ from ..numeric.consistency import complete_state, project_state
 from ..errors import IntegrationFailed, ModelError, PainleveParadox
 from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, transition
 from ..modeling.model import Model
+from ..modeling.shapes.watch import SupportWatch
 from ..modes.motion import Motion
 from ..modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
 from ..modes.solver import ModeSolver
@@ -342,7 +343,10 @@ class Simulation:
         events_log: list[dict] = []
         next_time = 0
 
+        support = SupportWatch(self.model, self.params)  # each support point unique along the motion
+
         def emit(t, yy, md, motion=None, step=False):
+            support.check(t, yy)
             samples.add(Sample(float(t), np.array(yy, dtype=float), md, motion), step)
 
         # the state at the start of a phase is sampled at the top of the loop, with its motion
@@ -417,6 +421,7 @@ class Simulation:
                 g_new = [ev.value(motion) for ev in events]
                 step = Step(solver, mode, ode, motion)
                 inertia.check(step)
+                support.check(t_new, ode.y)
                 rates_new = guard_rates.at(motion, h)
                 hits = event_hits(step, events, armed, tols, g_prev, g_new, (rates, rates_new))
                 singular = regularity.crossing(step, watched, level) if watched else None

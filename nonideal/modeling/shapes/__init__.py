@@ -2,7 +2,8 @@
 
 One module per shape (:mod:`.sphere`, :mod:`.ellipsoid`, :mod:`.paraboloid`, :mod:`.disk`,
 :mod:`.point`) behind the interface of :mod:`.base`; the surface in :mod:`.surface`; the gap,
-slip and angular velocities of a contact in :mod:`.geometry`.
+slip and angular velocities of a contact in :mod:`.geometry`; the uniqueness of the support
+points watched along a motion in :mod:`.watch`.
 """
 
 from __future__ import annotations
