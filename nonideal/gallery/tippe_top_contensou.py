@@ -52,10 +52,19 @@ PARAMETERS = {"m": 0.006, "R": 0.015, "a": 0.003, "A": 8.0e-7, "C": 7.0e-7, "g":
 E = ["e0", "e1", "e2", "e3"]
 
 
-def build(t_end: float = 3.0, **parameters) -> Model:
-    """The top with the Python API (the model file for the defaults)."""
+def build(t_end: float = 3.0, speeds: dict | None = None, name: str = "tippe top (Coulomb-Contensou friction)",
+          **parameters) -> Model:
+    """The top with the Python API (the model file for the defaults); *speeds*: generalized
+    speeds (``[speeds]``), the initial state then given in them."""
+    initial = {"x": 0.0, "y": 0.0, "z": "R - a*cos(theta0)", "e0": "cos(theta0/2)", "e1": "sin(theta0/2)",
+               "e2": 0.0, "e3": 0.0}
+    if speeds:
+        initial.update({"u1": 0.0, "u2": 0.0, "u3": 0.0, "w1": 0.0, "w2": 0.0, "w3": "W"})
+    else:
+        initial.update({"x'": 0.0, "y'": 0.0, "z'": 0.0, "e0'": 0.0, "e1'": 0.0,
+                        "e2'": "-W*sin(theta0/2)/2", "e3'": "W*cos(theta0/2)/2"})
     return Model(
-        name="tippe top (Coulomb-Contensou friction)", coordinates=["x", "y", "z", *E],
+        name=name, coordinates=["x", "y", "z", *E],
         parameters={**PARAMETERS, **parameters},
         frames=[Frame("B", quaternion=E)],
         points=[Point("G", ["x", "y", "z"])],
@@ -63,10 +72,8 @@ def build(t_end: float = 3.0, **parameters) -> Model:
         gravity=["0", "0", "-g"],
         contacts=[Contact("table", body="top", shape=Sphere("R", center=(0, 0, "a")),
                           friction=CoulombContensou("mu", "rho"))],
-        initial={"x": 0.0, "y": 0.0, "z": "R - a*cos(theta0)", "e0": "cos(theta0/2)",
-                 "e1": "sin(theta0/2)", "e2": 0.0, "e3": 0.0, "x'": 0.0, "y'": 0.0, "z'": 0.0,
-                 "e0'": 0.0, "e1'": 0.0, "e2'": "-W*sin(theta0/2)/2", "e3'": "W*cos(theta0/2)/2"},
-        simulation={"t_end": t_end, "rtol": 1e-10, "atol": 1e-12})
+        initial=initial, simulation={"t_end": t_end, "rtol": 1e-10, "atol": 1e-12},
+        **({"speeds": speeds} if speeds else {}))
 
 
 def jellett_balance(t, theta, jellett, torque, p: dict) -> float:

@@ -38,6 +38,7 @@ import symengine as se
 from ..dynamics import count_ops
 from ..eom import EquationsOfMotion
 from .base import Formalism, project_rows, reduce_velocities, split_rows, transpose_times
+from .folding import foldable
 from .quasi import ADJUGATE_MAX, Reduced, fold_matrix, norm_reducer, partial_velocities
 
 __all__ = ["Appell", "reduced_acceleration_energy"]
@@ -132,7 +133,7 @@ class Appell(Formalism):
         reduce = norm_reducer(dyn.model)
         # expanded first: S in the speeds carries products that cancel term by term (a fold of
         # the unexpanded expression would exceed its size budget)
-        A, c, Qf, R, rr, G, gamma, B = [fold_matrix(M_.subs(pv.subs).applyfunc(se.expand) if n <= ADJUGATE_MAX
+        A, c, Qf, R, rr, G, gamma, B = [fold_matrix(M_.subs(pv.subs).applyfunc(se.expand) if foldable(M_, n, reduce)
                                                     else M_.subs(pv.subs), reduce, n)
                                         for M_ in (A, c, Qf, Phi, r, G, gamma, B)]
         notes = [basis.note() + " (the quasi-velocities; p' their derivatives)"]

@@ -9,11 +9,13 @@ import symengine as se
 
 from ..dynamics import count_ops
 
-__all__ = ["fold_trig", "norm_reducer", "fold_matrix", "ADJUGATE_MAX"]
+__all__ = ["fold_trig", "norm_reducer", "fold_matrix", "foldable", "ADJUGATE_MAX", "FOLD_OPS_MAX"]
 
 #: systems of at most this many coordinates have their equations folded (and small speed
 #: matrices inverted by the adjugate); larger ones are left as derived
 ADJUGATE_MAX = 6
+#: the size (operations) up to which the matrices of a system over ADJUGATE_MAX coordinates are folded
+FOLD_OPS_MAX = 50000
 
 
 def _reduce_powers(expr, kind: str):
@@ -105,11 +107,29 @@ def norm_reducer(model):
     return reduce
 
 
+def foldable(M, n: int, reduce=None) -> bool:
+    """Whether the entries of *M* are folded for reading: always for systems of at most
+    :data:`ADJUGATE_MAX` coordinates (*n*); a larger one only when it has Euler parameters to
+    reduce (*reduce*, from :func:`norm_reducer`) and its entries are small (at most
+    :data:`FOLD_OPS_MAX` operations: a top on a plane in body speeds).  Anything else is left as
+    derived (a bicycle: walking its expression trees costs minutes, counting them too)."""
+    if n <= ADJUGATE_MAX:
+        return True
+    if reduce is None:
+        return False
+    total = 0
+    for i in range(M.rows):
+        for j in range(M.cols):
+            total += count_ops([M[i, j]])
+            if total > FOLD_OPS_MAX:
+                return False
+    return True
+
+
 def fold_matrix(M, reduce=None, n: int = 0):
-    """:func:`fold_trig` (and the Euler-parameter reduction *reduce*) on every entry -- for
-    systems of at most :data:`ADJUGATE_MAX` coordinates (*n*), whose equations are read; a
-    larger one (a bicycle) is left as derived: walking its expression trees costs minutes."""
-    if n > ADJUGATE_MAX:
+    """:func:`fold_trig` (and the Euler-parameter reduction *reduce*) on every entry when
+    :func:`foldable`, else *M* as derived."""
+    if not foldable(M, n, reduce):
         return M
     out = se.zeros(M.rows, M.cols)
     for i in range(M.rows):

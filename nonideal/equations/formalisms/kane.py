@@ -29,6 +29,7 @@ import symengine as se
 
 from ..eom import EquationsOfMotion
 from .base import Formalism, project_rows, quadratic_form, split_rows, transpose_times
+from .folding import ADJUGATE_MAX, foldable
 from .quasi import Reduced, fold_matrix, norm_reducer, partial_velocities
 
 __all__ = ["Kane"]
@@ -54,7 +55,12 @@ class Kane(Formalism):
         G, gamma, B = project_rows(kept, Reduced(Phi, r), n)
         if subs:
             reduce = norm_reducer(dyn.model)
-            A, c, Qf, Phi, r, G, gamma, B = [fold_matrix(M_.subs(subs), reduce, n) for M_ in (A, c, Qf, Phi, r, G, gamma, B)]
+            # a large system that is still folded (Euler parameters, small entries) is expanded first:
+            # its powers of |e|^2 cancel term by term
+            big = [M_.subs(subs) for M_ in (A, c, Qf, Phi, r, G, gamma, B)]
+            A, c, Qf, Phi, r, G, gamma, B = [
+                fold_matrix(M_.applyfunc(se.expand) if n > ADJUGATE_MAX and foldable(M_, n, reduce) else M_, reduce, n)
+                for M_ in big]
             aux = basis.auxiliaries()
         notes = [basis.note()]
         if ideal:

@@ -37,7 +37,8 @@ from ..dynamics import count_ops
 from ..eom import Auxiliary, EquationsOfMotion
 from ...errors import FormNotApplicable, SingularSystem
 from .base import numeric_instances, partition, project_rows, split_rows, symbolic_solve
-from .folding import ADJUGATE_MAX, fold_matrix, fold_trig, norm_reducer
+from .blocksolve import adjugate_solve, block_solve
+from .folding import ADJUGATE_MAX, fold_matrix, fold_trig, foldable, norm_reducer
 
 __all__ = ["SpeedBasis", "speed_basis", "velocity_rows", "Reduced", "radial_rows", "PartialVelocities",
            "partial_velocities", "quasi_equations", "ADJUGATE_MAX", "fold_matrix", "fold_trig", "norm_reducer"]
@@ -270,23 +271,16 @@ def _undetermined(dyn, rows, radial) -> list:
     return out
 
 
-def _reparse(expr):
-    """SymPy's canonical form of *expr* through its text, every name read as a symbol (a
-    parameter called ``beta``, ``gamma`` or ``S`` is not SymPy's function or singleton)."""
-    import sympy as sp
-
-    names = {str(x): sp.Symbol(str(x)) for x in se.sympify(expr).free_symbols}
-    return sp.sympify(str(expr), locals=names)
-
-
 def invert(basis: SpeedBasis, dyn, form: str, columns: list | None = None, factor: int = 4,
-           floor: int = 4000):
+           floor: int = 4000, on_sphere: bool = False):
     """Solve ``W X = Y`` symbolically for ``Y = [I | -w]`` (default) or the given *columns*;
     None when the explicit solution exceeds the size budget.
 
     A small ``W`` (at most :data:`ADJUGATE_MAX` rows) is inverted as ``adj(W) / det(W)`` with
     the determinant simplified by SymPy (``cos^2 + sin^2`` in a denominator would otherwise
-    stay); larger ones by sparse Gaussian elimination (:func:`symbolic_solve`)."""
+    stay); a larger one block by block when its rows fall into groups (a body's rotation and
+    translation: :func:`~nonideal.equations.formalisms.blocksolve.block_solve`), else by sparse
+    Gaussian elimination (:func:`symbolic_solve`)."""
     n = dyn.n
     Wl = [[basis.W[i, j] for j in range(n)] for i in range(n)]
     if columns is None:
@@ -294,20 +288,18 @@ def invert(basis: SpeedBasis, dyn, form: str, columns: list | None = None, facto
         columns.append([-basis.w[i, 0] for i in range(n)])
     Y = [[col[i] for col in columns] for i in range(n)]
     size = count_ops([x for row in Wl for x in row] + [x for row in Y for x in row])
+    reduce = norm_reducer(dyn.model) or (lambda x: x)
     if n <= ADJUGATE_MAX and count_ops([x for row in Wl for x in row]) <= 400:
-        import sympy as sp
-
-        Ws = sp.Matrix(n, n, lambda i, j: _reparse(Wl[i][j]) if Wl[i][j].free_symbols else sp.sympify(Wl[i][j]))
-        reduce = norm_reducer(dyn.model) or (lambda x: x)
-        det = sp.trigsimp(sp.factor(_reparse(reduce(se.sympify(Ws.det(method="berkowitz"))))))
-        if det != 0:
-            adj = Ws.adjugate(method="berkowitz")
-            adj_se = [[reduce(se.sympify(sp.expand(adj[i, j]))) for j in range(n)] for i in range(n)]
-            d = se.sympify(det)
-            X = [[sum((adj_se[i][l] * Y[l][c] for l in range(n) if adj_se[i][l] != 0 and Y[l][c] != 0),
-                      se.Integer(0)) / d for c in range(len(columns))] for i in range(n)]
-            if count_ops([x for row in X for x in row]) <= max(floor, factor * size):
-                return X
+        X = adjugate_solve(Wl, Y, reduce)
+        if X is not None and count_ops([x for row in X for x in row]) <= max(floor, factor * size):
+            return X
+    if n > ADJUGATE_MAX and norm_reducer(dyn.model) is not None:
+        # a body in Euler parameters: its rotation and translation solved group by group; reduced
+        # on |e| = 1 when *on_sphere* (the partial velocities, read there), else exact at any |e|
+        # (Boltzmann-Hamel and Poincare-Chetaev differentiate the inverse)
+        X = block_solve(Wl, Y, reduce if on_sphere else (lambda x: x), max(floor, factor * size))
+        if X is not None:
+            return X
     return symbolic_solve(Wl, Y, max(floor, factor * size))
 
 
@@ -343,7 +335,7 @@ def partial_velocities(dyn, ideal, independent, form: str, order=None) -> Partia
     cols = [[se.Integer(1 if i == c else 0) for i in range(n)] for c in range(k)]
     cols.append([-basis.w[i, 0] for i in range(n)])
     cols.append([-x for x in b])
-    X = invert(basis, dyn, form, cols)
+    X = invert(basis, dyn, form, cols, on_sphere=True)
     coords = dyn.model.coordinates
     if X is None:   # too large to write: partial velocities solved numerically
         syms = [[se.Symbol(f"Phi[{coords[i]},{basis.names[c]}]") for c in range(k)]
@@ -460,11 +452,13 @@ def assemble(dyn, ql: QuasiLagrangian, lhs: list):
     acc = ql.basis.accelerations()
     zero_sigma = {s: se.Integer(0) for s in ql.basis.sigma}
     zero_acc = {a: se.Integer(0) for a in acc}
-    reduce = norm_reducer(dyn.model) or (lambda x: x)
-    if dyn.n > ADJUGATE_MAX:   # large: left as derived (see fold_matrix)
-        reduce, fold = (lambda x: x), (lambda x: x)
-    else:
-        fold = fold_trig
+    reducer = norm_reducer(dyn.model)
+    reduce, fold = reducer or (lambda x: x), fold_trig
+    if dyn.n > ADJUGATE_MAX:   # large: left as derived unless small with Euler parameters (see foldable)
+        if foldable(se.Matrix([[se.sympify(x) for x in lhs]]), dyn.n, reducer):
+            reduce = lambda x: reducer(se.expand(x))   # noqa: E731 -- |e|^2 powers cancel term by term
+        else:
+            reduce, fold = (lambda x: x), (lambda x: x)
     A = se.zeros(k, k)
     c = se.zeros(k, 1)
     for r_ in range(k):
@@ -508,6 +502,9 @@ def quasi_equations(form, dyn, rows, independent, coefficients, term, describe) 
         lhs.append(e.subs(ql.on_motion))
     A, c = assemble(dyn, ql, lhs)
     G, gam, B = project_rows(kept, Reduced(ql.R, ql.r), n)
+    reducer = norm_reducer(dyn.model)
+    G, gam, B = (fold_matrix(M_.applyfunc(se.expand) if n > ADJUGATE_MAX and foldable(M_, n, reducer) else M_,
+                             reducer, n) for M_ in (G, gam, B))
     labels = list(basis.names) + [f"sigma[{r_.name}]" for r_ in basis.rows]
     extras, notes = describe(ql, coeff, labels)
     return EquationsOfMotion(
