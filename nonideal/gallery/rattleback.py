@@ -74,13 +74,16 @@ def reversal_time(t, w) -> float | None:
     return float(t[i] - w[i] * (t[i + 1] - t[i]) / (w[i + 1] - w[i]))
 
 
-def check(model: Model, t_end: float | None = None, samples: int = 2001) -> dict:
+def check(model: Model, t_end: float | None = None, samples: int = 2001, roll: str = "a",
+          pitch: str = "b") -> dict:
+    """Simulate on *samples* uniform times: the spin about the vertical, its first reversal,
+    the energy drift, the least normal force and the events (*roll*, *pitch*: the angles' names)."""
     from ..simulation.hybrid import simulate
 
     t_end = t_end or model.simulation.t_end
     times = np.linspace(model.t0, t_end, samples)
     tr = simulate(model, times=times)
-    w = spin(tr)
+    w = spin(tr, roll, pitch)
     E = tr.energy["kinetic"] + tr.energy["potential"]
     return {"t": times, "spin": w, "reversal_time": reversal_time(times, w), "trajectory": tr,
             "energy_drift": float(np.max(np.abs(E - E[0])) / abs(E[0])),
