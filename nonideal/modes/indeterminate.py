@@ -509,12 +509,12 @@ def split_phases(solver, motions) -> dict:
     Parameters
     ----------
     solver : ModeSolver
-    motions : sequence of Motion
-        The motion at each sample, in time order.
+    motions : sequence of Motion or None
+        The motion at each sample, in time order (None: a sample of a mode without rows).
     """
     phases, previous = [], -2
     for k, m in enumerate(motions):
-        if not m.indeterminate:
+        if m is None or not m.indeterminate:
             continue
         label = m.mode.label()
         if phases and phases[-1][0] == label and previous == k - 1:

@@ -330,3 +330,45 @@ class Loop:
                 cap *= 2
                 bt, by, bd = (ctypes.c_double * cap)(), (ctypes.c_double * (cap * ny))(), \
                     (ctypes.c_double * (cap * ny))()
+
+
+    def phase_arrays(self, t, y, f, h_abs, t_end, rtol, atol, max_step, times, next_time,
+                     max_steps, tiny):
+        """:meth:`phase` with NumPy arrays in and out, the signature and result of
+        :func:`nonideal.numeric.integrator.phase` without its kernel and work arrays:
+        ``(status, t, y, f, h_abs, T, Y, DY, count, next_time, steps)``; *times* from index
+        *next_time* on are sampled (none: every step)."""
+        import numpy as np
+
+        ny = self.ny
+        y, f = np.array(y, dtype=float), np.array(f, dtype=float)
+        st = np.array([t, h_abs], dtype=float)
+        ni = np.array([next_time, 0, 0], dtype=np.intc)
+        atol = np.ascontiguousarray(np.broadcast_to(atol, (ny,)), dtype=float)
+        times = np.ascontiguousarray(times, dtype=float)
+        # the samples of the phase: those left in the grid (none beyond them), else a chunk of steps
+        cap = max(1, int(np.searchsorted(times, t_end, side="right")) - next_time) if times.size \
+            else max(1, min(int(max_steps), 4096))
+        parts = []
+        while True:
+            T, Y, DY = np.empty(cap), np.empty((cap, ny)), np.empty((cap, ny))
+            status = self.lib.nonideal_phase(
+                ny, _ptr(st), _ptr(y), _ptr(f), float(t_end), float(rtol), _ptr(atol),
+                float(max_step), _ptr(times), times.size, ni.ctypes.data_as(_I), int(max_steps),
+                float(tiny), _ptr(T), _ptr(Y), _ptr(DY), cap)
+            c = int(ni[1])
+            parts.append((T[:c], Y[:c], DY[:c]))
+            if status != 5:
+                break
+            if c == 0:
+                cap *= 2
+        if len(parts) == 1:
+            T, Y, DY = parts[0]
+        else:
+            T, Y, DY = (np.concatenate(a) for a in zip(*parts))
+        return status, float(st[0]), y, f, float(st[1]), T, Y, DY, len(T), int(ni[0]), int(ni[2])
+
+
+def _ptr(a):
+    return a.ctypes.data_as(_D)
+

@@ -33,7 +33,7 @@ from ..equations.formalisms import FORMS
 from ..errors import ModelError, short_repr
 from ..modeling.arguments import real_number, require_form, require_mapping, require_model, sample_times
 
-__all__ = ["MAX_SAMPLES", "MAX_TIMES", "MAX_STEPS", "PROBE_STEPS", "MAX_SECONDS", "PROBE_SECONDS", "SampleBuffer", "StepBudget",
+__all__ = ["MAX_SAMPLES", "MAX_TIMES", "MAX_STEPS", "PROBE_STEPS", "MAX_SECONDS", "PROBE_SECONDS", "Block", "SampleBuffer", "StepBudget",
            "check_times", "check_arguments", "sample_dense"]
 
 MAX_SAMPLES = 5_000
@@ -59,9 +59,27 @@ def check_times(times: np.ndarray) -> None:
                          "(every one is kept in memory): sample more coarsely or split the run")
 
 
+class Block:
+    """The samples of one native phase in a mode without rows or contacts, as arrays: times
+    *t*, states *y* (one row each) and accelerations *qdd* (the motion is the derivative's;
+    no :class:`~nonideal.modes.motion.Motion` per sample)."""
+
+    __slots__ = ("t", "y", "qdd", "mode")
+
+    def __init__(self, t: np.ndarray, y: np.ndarray, qdd: np.ndarray, mode):
+        self.t, self.y, self.qdd, self.mode = t, y, qdd, mode
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def rows(self, keep) -> "Block":
+        return Block(self.t[keep], self.y[keep], self.qdd[keep], self.mode)
+
+
 class SampleBuffer(list):
     """The samples of a run, at most *limit* of them taken at plain steps (see the module
-    docstring).  ``append(sample, step=True)``: a step sample, subject to the stride."""
+    docstring).  ``add(sample, step=True)``: a step sample, subject to the stride;
+    :meth:`add_block`: many at once (:class:`Block`), kept exactly as one by one."""
 
     def __init__(self, limit: int | None = MAX_SAMPLES):
         super().__init__()
@@ -82,11 +100,54 @@ class SampleBuffer(list):
         self._is_step.append(step)
         self._steps += step
 
+    def add_block(self, block: Block, step: bool = False) -> None:
+        """Add the samples of *block*; step samples are kept or dropped as :meth:`add` would,
+        one by one."""
+        if not step or self.limit is None:
+            self._append_block(block, step)
+            return
+        i, n = 0, len(block)
+        while i < n:
+            j = i + (-(self._seen + 1)) % self.stride  # the next row the stride keeps
+            if j >= n:
+                self._seen += n - i
+                return
+            if self._steps >= self.limit:  # full: thin, then keep row j (as add does)
+                self._thin()
+                self._append_block(block.rows(slice(j, j + 1)), True)
+                i = j + 1
+                continue
+            rows = np.arange(j, n, self.stride)[:self.limit - self._steps]
+            self._append_block(block.rows(rows), True)
+            self._seen += int(rows[-1]) + 1 - i
+            i = int(rows[-1]) + 1
+
+    def _append_block(self, block: Block, step: bool) -> None:
+        if len(block):
+            self.append(block)
+            self._is_step.append(step)
+            self._steps += len(block) if step else 0
+
+    @property
+    def last_time(self) -> float | None:
+        """The time of the last sample kept (None: none)."""
+        if not self:
+            return None
+        last = self[-1]
+        return float(last.t[-1]) if isinstance(last, Block) else last.t
+
     def _thin(self) -> None:
         """Drop every other step sample; double the stride."""
         keep, flags, parity = [], [], 0
         for sample, step in zip(self, self._is_step):
-            if step:
+            if step and isinstance(sample, Block):
+                # row r leaves the parity at parity ^ ((r + 1) % 2): kept where that is 1
+                after = parity ^ ((np.arange(len(sample)) + 1) % 2)
+                parity ^= len(sample) % 2
+                sample = sample.rows(after == 1)
+                if not len(sample):
+                    continue
+            elif step:
                 parity ^= 1
                 if not parity:
                     continue
@@ -94,7 +155,7 @@ class SampleBuffer(list):
             flags.append(step)
         self[:] = keep
         self._is_step = flags
-        self._steps = sum(flags)
+        self._steps = sum(len(s) if isinstance(s, Block) else 1 for s, f in zip(keep, flags) if f)
         self.stride *= 2
         self._seen = 0
 

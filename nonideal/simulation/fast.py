@@ -29,13 +29,17 @@ from ..modes.motion import Motion
 from ..modes.system import system_of
 from ..modes.types import Mode
 
-__all__ = ["NATIVE_STEPS", "NATIVE_CHUNK", "FastPhases", "deferred_signals"]
+__all__ = ["NATIVE_STEPS", "NATIVE_CHUNK", "C_LOOP_ENV", "FastPhases", "deferred_signals"]
 
 NATIVE_STEPS = 1000
 """Accepted steps of one phase after which it continues natively (with ``native=None``): the
 phase has then cost ~0.1-0.5 s in Python, about what loading the native kernel costs the first
 time in a process (compiling it the first time ever: 2-4 s for a 10-link pendulum, then read
 from the disk cache in ~0.1 s)."""
+
+C_LOOP_ENV = "NONIDEAL_C_LOOP"
+"""Environment variable: ``0`` keeps the numba loop for the phases a C compiler could take
+(:meth:`FastPhases.c_loop`; the results are the same bit for bit, only slower)."""
 
 NATIVE_CHUNK = 20_000
 """Steps of one native call; between two, the run's step and time budget is checked and
@@ -98,6 +102,44 @@ class FastPhases:
                                                      self.sim.track)
         return self._buffers[key]
 
+    def c_loop(self, mode: Mode, t: float, y: np.ndarray):
+        """The phase loop of *mode* compiled in C with its right-hand side inlined
+        (:mod:`nonideal.numeric.cloop`, :mod:`nonideal.numeric.cmode`), or None: no C compiler,
+        ``NONIDEAL_C_LOOP=0`` in the environment, the source does not compile, or its
+        right-hand side at *(t, y)* is not the numba one's bit for bit.  Built once per model,
+        parameters and mode structure (the library on disk, named by its source's hash)."""
+        if os.environ.get(C_LOOP_ENV, "1") == "0":
+            return None
+        from ..numeric import cloop
+
+        if cloop.compiler() is None:
+            return None
+        w, ix = self.buffers(mode)
+        nx = int(ix[5])
+        key = ("c loop", w[:nx].tobytes(), ix.tobytes())
+        entry = self.sim.kernel.model.cached(key, lambda: self._build_c_loop(w, ix, y.size))
+        if entry is None:
+            return None
+        loop, checked = entry
+        if not checked:  # the generated C is trusted once it computes what numba computes
+            want, got = np.empty(y.size), loop.rhs(t, list(y))
+            ok = bool(self.native.rhs(t, y, w.copy(), ix, want)) and got is not None \
+                and got == want.tolist()
+            entry[1] = True
+            if not ok:
+                entry[0] = loop = None
+        return loop
+
+    def _build_c_loop(self, w, ix, ny):
+        from ..numeric import cloop, cmode
+        from ..numeric.native import cache_dir
+
+        try:
+            path = cloop.build(cloop.source(cmode.rhs_source(self.sim.kernel, w, ix)), str(cache_dir() / "c"))
+        except Exception:  # an expression the C printer does not write: the numba loop
+            return None
+        return None if path is None else [cloop.Loop(path, ny), False]
+
     def rhs(self, mode: Mode, general):
         """The native right-hand side of *mode* once the native kernel is loaded, else None;
         *general* answers where the system is singular (a named error or the minimum-norm
@@ -156,6 +198,7 @@ class FastPhases:
         nat, solver, n = self.native, self.sim.solver, self.sim.n
         plain = solver.system(mode).m == 0
         t, y, f, h_abs = float(ode.t), np.array(ode.y, dtype=float), np.array(ode.f, dtype=float), float(ode.h_abs)
+        loop = self.c_loop(mode, t, y)
         atol = np.broadcast_to(np.asarray(ode.atol, dtype=float), y.shape).copy()
         grid = np.asarray(times if times is not None else np.zeros(0), dtype=float)
         nt = next_time if times is not None else 0
@@ -163,11 +206,18 @@ class FastPhases:
         tiny = 1e-9 * min(t_end - budget.t0, 1.0)
         while True:
             with deferred_signals():
-                status, t, y, f, h_abs, T, Y, DY, count, nt, steps = nat.integrator.phase(
-                    nat.kernel, t, y, f, h_abs, float(t_end), float(ode.rtol), atol, float(ode.max_step),
-                    w, ix, grid, nt, NATIVE_CHUNK, tiny + 4e-16 * abs(t_end))
+                if loop is not None:
+                    status, t, y, f, h_abs, T, Y, DY, count, nt, steps = loop.phase_arrays(
+                        t, y, f, h_abs, float(t_end), float(ode.rtol), atol, float(ode.max_step),
+                        grid, nt, NATIVE_CHUNK, tiny + 4e-16 * abs(t_end))
+                else:
+                    status, t, y, f, h_abs, T, Y, DY, count, nt, steps = nat.integrator.phase(
+                        nat.kernel, t, y, f, h_abs, float(t_end), float(ode.rtol), atol, float(ode.max_step),
+                        w, ix, grid, nt, NATIVE_CHUNK, tiny + 4e-16 * abs(t_end))
             step = times is None
-            if plain:  # without rows, the derivative holds the whole motion
+            if plain and not solver.ck and hasattr(emit, "many"):  # nothing but the motion: arrays
+                emit.many(T, Y, mode, DY[:, n:2 * n], step)
+            elif plain:  # without rows, the derivative holds the whole motion
                 system = system_of(solver.kernel, mode)
                 QDD = DY[:, n:2 * n]
                 for k, tk in enumerate(T.tolist()):

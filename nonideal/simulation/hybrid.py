@@ -36,7 +36,7 @@ from ..modes.solver import ModeSolver
 from ..numeric.kernel import kernel_of, max_abs, parameter_vector
 from ..modes.switching import impact, select_mode
 from ..modes.validation import validate_state
-from .budget import MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
+from .budget import MAX_SAMPLES, Block, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
 from .guards import GuardRates, Step, event_hits, with_step_limit
 from .singular import BRANCHES, JUMP_FROM, MassGuard, Regularity, explain_stall, singular_level
 from .extended import reduce
@@ -348,6 +348,8 @@ class Simulation:
         def emit(t, yy, md, motion=None, step=False):
             support.check(t, yy)
             samples.add(Sample(float(t), np.array(yy, dtype=float), md, motion), step)
+        # a native phase's samples at once (only without contacts: no support point to watch)
+        emit.many = lambda T, Y, md, QDD, step=False: samples.add_block(Block(T, Y, QDD, md), step)
 
         # the state at the start of a phase is sampled at the top of the loop, with its motion
         pending = times is None or bool(times.size and abs(times[0] - t0) <= 1e-14 * max(1, abs(t0)))
@@ -530,7 +532,7 @@ class Simulation:
                 ode = with_step_limit(ode, lambda t_, y_, **kw: Solver(fun, t_, y_, t_end, **dict(kwargs, **kw)))
             if stopped or (not restart and ode.status == "finished"):
                 break
-        if pending or samples and samples[-1].t < t:  # a switch at the end; the thinned last step
+        if pending or samples and samples.last_time < t:  # a switch at the end; the thinned last step
             emit(t, y, mode)
         if times is not None:
             while next_time < times.size and times[next_time] <= t + 1e-12 * max(1, abs(t)):

@@ -156,12 +156,9 @@ class Trajectory:
         compiled observables over all samples."""
         kernel, solver = sim.kernel, sim.solver
         n = kernel.n
-        N = len(samples)
-        t = np.array([s.t for s in samples])
-        Y = np.array([s.y for s in samples]) if N else np.zeros((0, 2 * n))
+        t, Y, qdd, labels, motions = _columns_of(samples, solver, n)
+        N = len(t)
         q, qd = Y[:, :n], Y[:, n:2 * n]
-        motions = [s.motion if s.motion is not None else solver.motion(s.t, s.y, s.mode) for s in samples]
-        qdd = np.array([m.qdd for m in motions]).reshape(N, n)
         rows = kernel.rows
         mult = {r.name: np.zeros(N) for r in rows}
         names = solver.ck.names if solver.ck else []
@@ -173,6 +170,8 @@ class Trajectory:
         X[:, 1:1 + 2 * n] = Y[:, :2 * n]
         obs = kernel.observables.views(kernel.observables.batch(X))
         for k, m in enumerate(motions):
+            if m is None:  # a native phase's sample: no rows, no contacts
+                continue
             if m.system.row_col:
                 values = m.reported
                 for i, j in m.system.row_col.items():
@@ -227,7 +226,7 @@ class Trajectory:
             if any(r.reaction_kind == "servo" for r in kernel.rows) else {}  # (no n x n M per sample)
         speeds, outputs = _speeds_and_outputs(kernel.model, solver.params, t, q, qd, mult)
         return cls(kernel.model.name, tuple(kernel.model.coordinates), t, q, qd, qdd,
-                   [s.mode.label() for s in samples], mult, energy, list(events), diag, contacts,
+                   labels, mult, energy, list(events), diag, contacts,
                    controls, speeds, outputs)
 
     # ---------------------------------------------------------------- access
@@ -399,6 +398,32 @@ class Trajectory:
         cols = self._columns()
         return pd.DataFrame({name: v for name, v in cols[1:]},
                             index=pd.Index(np.asarray(self.t), name="t"))
+
+
+def _columns_of(samples, solver, n: int):
+    """``(t, Y, qdd, labels, motions)`` of the samples in order: single samples with their
+    motion (evaluated where the simulation has none), blocks of a native phase as they are
+    (their motions None)."""
+    from .budget import Block
+
+    ts, ys, qdds, labels, motions = [], [], [], [], []
+    for s in samples:
+        if isinstance(s, Block):
+            ts.append(s.t)
+            ys.append(s.y)
+            qdds.append(s.qdd)
+            labels += [s.mode.label()] * len(s)
+            motions += [None] * len(s)
+            continue
+        m = s.motion if s.motion is not None else solver.motion(s.t, s.y, s.mode)
+        ts.append([s.t])
+        ys.append(np.asarray(s.y, dtype=float)[None])
+        qdds.append(np.asarray(m.qdd, dtype=float).reshape(1, n))
+        labels.append(s.mode.label())
+        motions.append(m)
+    if not ts:
+        return np.zeros(0), np.zeros((0, 2 * n)), np.zeros((0, n)), [], []
+    return np.concatenate(ts).astype(float), np.concatenate(ys), np.concatenate(qdds), labels, motions
 
 
 def _speeds_and_outputs(model, params, t, q, qd, mult):

@@ -194,3 +194,57 @@ def test_a_signal_during_native_code_takes_effect_after_it():
             done.append(True)  # not interrupted inside
     assert done == [True]
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+needs_cc = pytest.mark.skipif(__import__("nonideal.numeric.cloop", fromlist=["compiler"]).compiler() is None,
+                              reason="no C compiler")
+
+
+@needs_cc
+@pytest.mark.parametrize("make, times", [
+    (lambda: pendulum(3, q0=0.4), None), (lambda: pendulum(3, q0=0.4), np.linspace(0, 4, 41)),
+    (lambda: __import__("nonideal").gallery.load("heavy-symmetric-top"), None)],
+    ids=["3-link, every step", "3-link, 41 times", "heavy symmetric top"])
+def test_a_phase_in_c_is_the_numba_phase_bit_for_bit(make, times, monkeypatch):
+    """The phase loop compiled in C with the mode's right-hand side (taken when a C compiler is
+    found) gives the numba loop's trajectory exactly: states, accelerations, multipliers,
+    energies; the C loop is really used."""
+    from nonideal.numeric import cloop
+
+    model = make()
+    kw = dict(t_end=4.0, times=times, rtol=1e-10, atol=1e-12, native=True)
+    monkeypatch.setenv(fast.C_LOOP_ENV, "0")
+    ref = simulate(model, **kw)
+    monkeypatch.delenv(fast.C_LOOP_ENV)
+    calls = []
+    original = cloop.Loop.phase_arrays
+    monkeypatch.setattr(cloop.Loop, "phase_arrays", lambda self, *a: calls.append(1) or original(self, *a))
+    got = simulate(model, **kw)
+    assert calls
+    assert len(got.t) > 40 and np.array_equal(got.t, ref.t)
+    for name in ("q", "qd", "qdd"):
+        assert np.array_equal(getattr(got, name), getattr(ref, name))
+    for name in ref.multipliers:
+        assert np.array_equal(got.multipliers[name], ref.multipliers[name])
+    assert np.array_equal(got.energy["energy"], ref.energy["energy"])
+
+
+@needs_cc
+def test_a_c_right_hand_side_that_differs_from_numba_is_not_used(monkeypatch):
+    """The generated C is trusted only where its right-hand side is numba's bit for bit: a
+    wrong one (here: gravity doubled) leaves the phase to the numba loop, with its results."""
+    from nonideal.numeric import cmode
+
+    model = pendulum(1, q0=0.5)
+    kw = dict(t_end=3.0, rtol=1e-10, atol=1e-12, native=True)
+    monkeypatch.setenv(fast.C_LOOP_ENV, "0")
+    ref = simulate(model, **kw)
+    monkeypatch.delenv(fast.C_LOOP_ENV)
+    original = cmode.rhs_source
+    monkeypatch.setattr(cmode, "rhs_source", lambda *a: original(*a).replace(
+        "nonideal_kernel(x, z);", "nonideal_kernel(x, z); z[NZ - 1] *= 2.0;"))
+    sim = Simulation(model, native=True, rtol=1e-10, atol=1e-12)
+    got = sim.run(t_end=3.0)
+    assert np.array_equal(got.q, ref.q)
+    assert all(entry is None or entry[0] is None for key, entry in model._derived.items()
+               if isinstance(key, tuple) and key[0] == "c loop")

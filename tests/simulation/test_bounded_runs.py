@@ -13,6 +13,7 @@ from nonideal.modeling.modelfile import load_model, model_from_dict
 from nonideal.simulation import simulate
 from nonideal.simulation import budget
 from nonideal.simulation.budget import MAX_TIMES, SampleBuffer
+from nonideal.simulation.trajectory import Sample
 from tests.helpers import DATA_DIR, run_cli
 
 
@@ -42,6 +43,35 @@ def test_sample_buffer_keeps_events_and_halves_steps():
     assert buf.stride == 8
     steps = [s[1] for s in buf if s[0] == "step"]
     assert steps == sorted(steps) and all(b - a == buf.stride for a, b in zip(steps[1:], steps[2:]))
+
+
+@pytest.mark.parametrize("limit", [None, 3, 4, 7])
+def test_a_block_of_samples_is_kept_as_one_by_one(limit):
+    """A native phase's samples given at once (arrays) keep the rows the buffer keeps when
+    they come one by one: the stride, the thinning, the events between them."""
+    rng = np.random.default_rng(limit or 0)
+    one, many = SampleBuffer(limit=limit), SampleBuffer(limit=limit)
+    k = 0
+    for _ in range(12):
+        size = int(rng.integers(0, 9))
+        t = np.arange(k, k + size, dtype=float)
+        step = bool(rng.integers(0, 4))
+        block = budget.Block(t, np.c_[t, -t], t[:, None] * 2.0, "mode")
+        for r in range(size):
+            one.add(Sample(t[r], block.y[r], "mode"), step)
+        many.add_block(block, step)
+        k += size
+        if rng.integers(0, 3) == 0:  # an event between two phases
+            one.add(Sample(k - 0.5, np.zeros(2), "event"))
+            many.add(budget.Block(np.array([k - 0.5]), np.zeros((1, 2)), np.zeros((1, 1)), "event"))
+
+    def rows(buf):
+        return [float(t) for b in buf for t in np.atleast_1d(b.t)], \
+            [tuple(y) for b in buf for y in np.atleast_2d(b.y)]
+    assert rows(many) == rows(one)
+    assert many.stride == one.stride and many._steps == one._steps
+    if limit is not None:
+        assert many._steps <= limit
 
 
 def test_a_run_that_cannot_finish_is_refused(pendulum, monkeypatch):
