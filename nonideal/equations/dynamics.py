@@ -32,7 +32,7 @@ from .servo import (control_rows, directions_dependent, quasi_ideal_direction, r
 from ..errors import ModelError, SingularSystem
 from ..modeling.model import Constraint, Model
 from ..modeling.symbols import to_se
-from .algebra import count_ops, cross
+from .algebra import count_ops, cross, pythagorean
 from .contact_data import ContactData
 
 __all__ = ["Dynamics", "ConstraintRow", "dynamics_of"]
@@ -295,7 +295,7 @@ class Dynamics:
             for i in range(n):
                 for j, d in self.gradient(p[i], 1).items():
                     if j >= i:
-                        add(i, j, d)
+                        add(i, j, pythagorean(d))
                 h[i] = self.dt(p[i], with_acceleration=False) - dTq.get(i, se.Integer(0))
                 if not accelerations.isdisjoint(h[i].free_symbols):  # pragma: no cover (O(n), not n^2)
                     raise SingularSystem("kinetic energy contains accelerations")
@@ -306,7 +306,7 @@ class Dynamics:
             moving = sorted(set().union(*J))
             for a, i in enumerate(moving):
                 for j in moving[a:]:
-                    add(i, j, m * sum((Jd[i] * Jd[j] for Jd in J if i in Jd and j in Jd), se.Integer(0)))
+                    add(i, j, m * pythagorean(sum((Jd[i] * Jd[j] for Jd in J if i in Jd and j in Jd), se.Integer(0))))
                 h[i] += m * sum((Jd[i] * a0[d] for d, Jd in enumerate(J) if i in Jd), se.Integer(0))
             b = it["body"]
             if isinstance(b, PlanarBody):

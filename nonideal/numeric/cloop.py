@@ -19,6 +19,7 @@ to *generate* the source, never to load or run a compiled library.
 """
 
 import ctypes
+import functools
 import hashlib
 import os
 import shutil
@@ -31,12 +32,18 @@ FLAGS = ("-O2", "-fPIC", "-shared", "-ffp-contract=off")
 
 
 def compiler():
-    """The system C compiler's path (``$CC``, ``cc``, ``gcc``, ``clang``), or ``None``."""
-    for name in (os.environ.get("CC"), "cc", "gcc", "clang"):
+    """The system C compiler's path (``$CC``, ``cc``, ``gcc``, ``clang``), or ``None``;
+    looked up once per value of ``$CC`` and ``$PATH``."""
+    return _compiler(os.environ.get("CC"), os.environ.get("PATH"))
+
+
+@functools.lru_cache(maxsize=8)
+def _compiler(cc, path):
+    for name in (cc, "cc", "gcc", "clang"):
         if name:
-            path = shutil.which(name)
-            if path:
-                return path
+            found = shutil.which(name, path=path)
+            if found:
+                return found
     return None
 
 

@@ -118,9 +118,11 @@ class SampleBuffer(list):
                 i = j + 1
                 continue
             rows = np.arange(j, n, self.stride)[:self.limit - self._steps]
-            self._append_block(block.rows(rows), True)
-            self._seen += int(rows[-1]) + 1 - i
-            i = int(rows[-1]) + 1
+            last = int(rows[-1])
+            self._append_block(block if rows.size == n else block.rows(
+                slice(j, last + 1) if self.stride == 1 else rows), True)
+            self._seen += last + 1 - i
+            i = last + 1
 
     def _append_block(self, block: Block, step: bool) -> None:
         if len(block):

@@ -12,6 +12,11 @@ and the next step size to the native DOP853 (the same method, tableau and step-s
 sides of the other phases of such a mode also come from the native kernel once it is loaded.
 ``native=False``, or numba absent, keeps the NumPy/SciPy path: the same results to rounding.
 
+Where a C compiler is found, a native phase runs the same loop compiled in C with the mode's
+right-hand side inlined (:meth:`FastPhases.c_loop`; :mod:`nonideal.numeric.cloop`): the numba
+phase bit for bit, faster.  The samples of a phase in a mode without rows or contacts are
+handed over as arrays (``emit.many``), not one by one.
+
 Which path a run takes depends only on its model, options and progress, never on what ran
 before or on the disk cache, so a run is reproducible bit for bit.
 """

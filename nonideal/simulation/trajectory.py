@@ -163,15 +163,14 @@ class Trajectory:
         mult = {r.name: np.zeros(N) for r in rows}
         names = solver.ck.names if solver.ck else []
         records: list[list] = [[] for _ in names]  # per contact: (mode, N, F, U, gap, mu_s) per sample
+        assert not names or len(motions) == N, "blocks of samples are for models without contacts"
         res_p = res_v = 0.0
         X = np.empty((N, len(solver.x)))
         X[:] = solver.x
         X[:, 0] = t
         X[:, 1:1 + 2 * n] = Y[:, :2 * n]
         obs = kernel.observables.views(kernel.observables.batch(X))
-        for k, m in enumerate(motions):
-            if m is None:  # a native phase's sample: no rows, no contacts
-                continue
+        for k, m in motions:  # (the rows of a block have no rows and no contacts)
             if m.system.row_col:
                 values = m.reported
                 for i, j in m.system.row_col.items():
@@ -206,7 +205,11 @@ class Trajectory:
         )
         from ..modes.indeterminate import split_phases
 
-        split = split_phases(solver, motions)
+        gapped, previous = [], -1  # (one None where a block of a native phase lies between two motions)
+        for k, m in motions:
+            gapped += [None, m] if gapped and k != previous + 1 else [m]
+            previous = k
+        split = split_phases(solver, gapped)
         if split:   # where the reactions are statically indeterminate: the rule, the ranges
             diag["indeterminate"] = split
         contacts = {}
@@ -401,9 +404,9 @@ class Trajectory:
 
 
 def _columns_of(samples, solver, n: int):
-    """``(t, Y, qdd, labels, motions)`` of the samples in order: single samples with their
-    motion (evaluated where the simulation has none), blocks of a native phase as they are
-    (their motions None)."""
+    """``(t, Y, qdd, labels, motions)`` of the samples in order, *motions* the pairs (row,
+    motion) of the single samples (the motion evaluated where the simulation has none); the
+    blocks of a native phase as they are (no motion)."""
     from .budget import Block
 
     ts, ys, qdds, labels, motions = [], [], [], [], []
@@ -413,14 +416,13 @@ def _columns_of(samples, solver, n: int):
             ys.append(s.y)
             qdds.append(s.qdd)
             labels += [s.mode.label()] * len(s)
-            motions += [None] * len(s)
             continue
         m = s.motion if s.motion is not None else solver.motion(s.t, s.y, s.mode)
         ts.append([s.t])
         ys.append(np.asarray(s.y, dtype=float)[None])
         qdds.append(np.asarray(m.qdd, dtype=float).reshape(1, n))
+        motions.append((len(labels), m))
         labels.append(s.mode.label())
-        motions.append(m)
     if not ts:
         return np.zeros(0), np.zeros((0, 2 * n)), np.zeros((0, n)), [], []
     return np.concatenate(ts).astype(float), np.concatenate(ys), np.concatenate(qdds), labels, motions
