@@ -146,6 +146,12 @@ def part1(repeat):
                                     0, 10 ** 8, 0.0)
     row["phase_only"], _ = C.best_of(lambda: phase(np.zeros(0)), repeat, clear=False)
     row["phase_only_601"], _ = C.best_of(lambda: phase(grid), repeat, clear=False)
+    loop = sim.fast.c_loop(mode, 0.0, y0)  # the same phase compiled in C (None: no C compiler)
+    if loop is not None:
+        def c_phase(times):
+            return loop.phase_arrays(0.0, y0, f0, 1e-3, 300.0, 1e-10, atol, np.inf, times, 0, 10 ** 8, 0.0)
+        row["phase_c"], _ = C.best_of(lambda: c_phase(np.zeros(0)), repeat, clear=False)
+        row["phase_c_601"], _ = C.best_of(lambda: c_phase(grid), repeat, clear=False)
     ours = np.r_[tr.q[-1], tr.qd[-1]]
     row["final_vs_scipy"] = float(np.max(np.abs(ours - sol.y[:, -1])))
     row["final_native_vs_scipy_path"] = float(np.max(np.abs(ours - np.r_[tr0.q[-1], tr0.qd[-1]])))
@@ -234,6 +240,11 @@ def main():
           f"{C.fmt_t(r1['phase_only_601'])} | {C.fmt_t(r1['numba_loop'])} | "
           f"{C.fmt_r(C.ratio(r1['phase_only'], r1['numba_loop']))} / "
           f"{C.fmt_r(C.ratio(r1['phase_only_601'], r1['numba_loop']))} | |")
+    if "phase_c" in r1:
+        print(f"| the same phase in C (what `simulate` runs with a C compiler) | {C.fmt_t(r1['phase_c'])} / "
+              f"{C.fmt_t(r1['phase_c_601'])} | {C.fmt_t(r1['numba_loop'])} | "
+              f"{C.fmt_r(C.ratio(r1['phase_c'], r1['numba_loop']))} / "
+              f"{C.fmt_r(C.ratio(r1['phase_c_601'], r1['numba_loop']))} | |")
     print(f"| simulate's fixed cost (t_end 1e-6, native) | {C.fmt_t(r1['ours_fixed'])} | {C.fmt_t(r1['numba_loop'])} | "
           f"{C.fmt_r(C.ratio(r1['ours_fixed'], r1['numba_loop']))} | |")
     print(f"| pendulum 300 s, SciPy path (native=False) | {C.fmt_t(r1['ours_scipy_path'])} | "
