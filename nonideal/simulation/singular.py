@@ -62,6 +62,7 @@ from ..modes.motion import Motion
 from ..modes.switching import effective_compliance
 from ..modes.types import SLIDE
 from .guards import StepScan
+from .slipstall import slip_stall
 
 __all__ = ["SINGULAR", "AMPLIFY", "singular_level", "JUMP_FROM", "BRANCHES", "LOST", "Regularity", "servo_stall", "mass_stall", "MassGuard", "explain_stall"]
 
@@ -571,10 +572,9 @@ class MassGuard:
 
 
 def explain_stall(sim, ode, mode) -> None:
-    """When the integration of *sim* (a :class:`~nonideal.simulation.hybrid.Simulation`)
-    stalls, name the cause if it is known: a singular chart of Lagrange II, a singular mass
-    matrix (:func:`mass_stall`), a servo-constraint that stops being realizable
-    (:func:`servo_stall`), a sliding contact at the edge of Painleve's paradox."""
+    """When the integration of *sim* (a :class:`~nonideal.simulation.hybrid.Simulation`) stalls, name a known cause: a
+    singular chart of Lagrange II, a singular mass matrix (:func:`mass_stall`), an unrealizable servo-constraint
+    (:func:`servo_stall`), a vanishing slip (:func:`.slipstall.slip_stall`), a slide at the edge of Painleve's paradox."""
     n, model = sim.n, sim.model
     source = None if model.source == "<api>" else model.source
     charts = sim.solver.charts
@@ -584,6 +584,7 @@ def explain_stall(sim, ode, mode) -> None:
     start = np.concatenate(sim.initial_state())
     mass_stall(model, sim.solver, ode.t, ode.y, model.t0, start)
     servo_stall(model, sim.solver, ode.t, ode.y, mode, model.t0, start)
+    slip_stall(sim, ode, mode)
     for name, cs in mode.contacts:
         if cs.state != SLIDE:
             continue

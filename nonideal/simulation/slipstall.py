@@ -1,0 +1,46 @@
+"""The stall of an integration at a vanishing two-component slip, named.
+
+Under the exact Coulomb law a contact that slides in two tangential directions stops in finite
+time; as its slip ``U`` vanishes, its direction may turn ever faster (the friction force,
+``-mu N U/|U|``, turns with it), and the solution's higher derivatives grow like inverse
+powers of the time left.  The hybrid loop locates such a stop by extrapolation once its steps
+have collapsed (:func:`~nonideal.simulation.guards.arrest`); where the slip instead hovers at
+the level of rounding without a stop to extrapolate to, the integration stalls.  This module
+says so, rather than the generic explanation of a right-hand side that is not smooth.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import IntegrationFailed
+from ..modes.motion import Motion
+from ..modes.types import SLIDE
+
+__all__ = ["SLIP_LEVEL", "slip_stall"]
+
+SLIP_LEVEL = 1e-8
+"""A slip below this fraction of the speeds (``1 + max |q'|``) counts as vanishing."""
+
+
+def slip_stall(sim, ode, mode) -> None:
+    """Raise :class:`~nonideal.errors.IntegrationFailed` naming the sliding contact of *mode*
+    whose two-component slip is vanishing at the solver's state *ode*, if there is one."""
+    solver, n = sim.solver, sim.n
+    if solver.ck is None:
+        return
+    motion = Motion(solver, mode, float(ode.t), np.asarray(ode.y, dtype=float))
+    speed = 1.0 + float(np.max(np.abs(motion.qd))) if n else 1.0
+    for c, (name, cs) in enumerate(mode.contacts):
+        if cs.state != SLIDE or solver.ck.dims[c] < 2:
+            continue
+        slip = float(np.linalg.norm(motion.slip(c)))
+        if slip <= SLIP_LEVEL * speed:
+            source = None if sim.model.source == "<api>" else sim.model.source
+            raise IntegrationFailed(
+                ode.t, mode.label(),
+                f"the slip of the sliding contact '{name}' is vanishing (|U| = {slip:.3g}) while "
+                "its direction turns: the exact Coulomb law in two tangential directions stops "
+                "it in finite time, and here the steps could not reach that instant (the slip "
+                "stays at the level of rounding; another rtol, or native=False/True, takes other "
+                "steps; friction = \"regularized\" with a small eps resolves the stop smoothly)", source)
