@@ -98,6 +98,9 @@ class ModeSolver:
         self.frictionless = self.ck.frictionless(params) if self.ck else frozenset()
         self.rolling = self.ck.rolling if self.ck else frozenset()
         self.reference: dict[int, np.ndarray] = {}
+        #: while a mode is selected (:func:`~nonideal.modes.switching.select_mode`): the slip below
+        #: which a candidate's own sliding direction is its friction's (the slip is zero there)
+        self.selecting = 0.0
         if self.ck and self.ck.torques and not self.route.saddle_point:
             from ..errors import ModelError
 
@@ -177,6 +180,8 @@ class ModeSolver:
         if len(U) == 1:
             return np.array(cs.direction, dtype=float)
         nrm = math.sqrt(U @ U)
+        if nrm <= self.selecting and len(cs.direction) == len(U) and cs.direction[0] != "onset":
+            return np.array(cs.direction, dtype=float)  # a candidate onset: its direction, not the noise of U
         if qd is None:
             qd = self.x[1 + self.n:1 + 2 * self.n]
         ref = self.reference.get(c)
@@ -193,17 +198,22 @@ class ModeSolver:
             return ref
         return np.array(cs.direction, dtype=float) if cs.direction else np.zeros_like(U)
 
-    def set_references(self, mode: "Mode", motion) -> None:
+    def set_references(self, mode: "Mode", motion, start: bool = False) -> None:
         """Record the slip direction of every two-component sliding contact at the state of
         *motion* (a :class:`~nonideal.modes.motion.Motion`; the simulation calls this at the
-        start of each step)."""
+        start of each step).  At the *start* of a phase, a slip below the switching tolerance
+        (``1e-8 (1 + max |q'|)``) is the residue of a stop, not a direction: the mode's own
+        sliding direction is the reference (the residue may point the other way, and friction
+        oriented by it would push the new slide on)."""
         self.reference = {}
         for c, (name, cs) in enumerate(mode.contacts):
             if cs.state == SLIDE and self.ck.dims[c] > 1:
                 U = motion.slip(c)
                 nrm = math.sqrt(U @ U)
                 scale = 1e-12 * (1.0 + max_abs(motion.qd))
-                if nrm > scale:
+                if start and len(cs.direction) == len(U) and nrm <= 1e-8 * (1.0 + max_abs(motion.qd)):
+                    self.reference[c] = np.array(cs.direction, dtype=float)
+                elif nrm > scale:
                     self.reference[c] = U / nrm
                 elif cs.direction:
                     self.reference[c] = np.array(cs.direction, dtype=float)

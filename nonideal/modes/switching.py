@@ -241,9 +241,17 @@ def select_mode(solver: ModeSolver, t: float, q: np.ndarray, qd: np.ndarray,
     MechanicsError
         No consistent choice (or several) without a sliding contact involved.
     """
+    sq, sv = _scales(q, qd)
+    outer, solver.selecting = solver.selecting, tol_vel * sv  # a slip within the tolerance is zero:
+    try:                                                       # each candidate slides its own way
+        return _select(solver, t, q, qd, tol_pos, tol_vel, exclude, previous, concerned, sq, sv)
+    finally:
+        solver.selecting = outer
+
+
+def _select(solver, t, q, qd, tol_pos, tol_vel, exclude, previous, concerned, sq, sv) -> Mode:
     kernel = solver.kernel
     excluded = () if exclude is None else (exclude,) if isinstance(exclude, Mode) else tuple(exclude)
-    sq, sv = _scales(q, qd)
     closed = []
     if solver.unilateral:
         obs = kernel.observables(solver.input(t, q, qd))

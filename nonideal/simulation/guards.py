@@ -382,7 +382,7 @@ ARREST_REACH = 8.0
 the last step's lengths past the step."""
 
 
-def arrest(step: Step, events, armed: list[bool], tols, g_new) -> list[tuple[float, int]]:
+def arrest(step: Step, events, armed: list[bool], g_new) -> list[tuple[float, int]]:
     """``(time, index)`` of the slip-stop events whose slip, positive and falling at the end of
     *step*, reaches zero within :data:`ARREST_REACH` step lengths by its linear
     extrapolation, at that zero.

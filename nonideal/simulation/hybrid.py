@@ -376,7 +376,7 @@ class Simulation:
             if pending:
                 emit(t, y, mode, motion)
                 pending = False
-            solver.set_references(mode, motion)
+            solver.set_references(mode, motion, start=True)
             guard_rates = GuardRates(events)  # steps short enough to sample the force guards
             rates = guard_rates.at(motion, h or 1e-3 * (t_end - t))
             ode = Solver(fun, t, y, t_end, **dict(kwargs, max_step=min(self.max_step, guard_rates.limit(rates, motion))))
@@ -425,7 +425,7 @@ class Simulation:
                 support.check(t_new, ode.y)
                 rates_new = guard_rates.at(motion, h)
                 hits = event_hits(step, events, armed, tols, g_prev, g_new, (rates, rates_new)) or \
-                    (arrest(step, events, armed, tols, g_new) if tiny >= ARREST_STEPS else [])  # a slip's finite-time stop
+                    (arrest(step, events, armed, g_new) if tiny >= ARREST_STEPS else [])  # a slip's finite-time stop
                 singular = regularity.crossing(step, watched, level) if watched else None
                 passed = None  # a singular instant carried over on the smooth branch
                 if singular is not None and (not hits or singular <= min(hits)[0]):

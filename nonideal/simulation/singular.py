@@ -563,8 +563,8 @@ class MassGuard:
         within *step* (:class:`~nonideal.simulation.guards.Step`)."""
         if not self.active:
             return
-        low = lambda s: float(self._eig(s, step.state(s))[0]) - self.floor  # noqa: E731
-        if low(step.b) > 0:
+        low = lambda s: float(self._eig(s, step.ode.y if s == step.b else step.state(s))[0]) - self.floor  # noqa: E731
+        if low(step.b) > 0:  # (the state at the end without the dense output)
             return
         a = step.a if low(step.a) > 0 else None
         t = step.b if a is None else brentq(low, a, step.b, xtol=1e-14 * max(1.0, abs(step.b)))

@@ -1,0 +1,41 @@
+"""A slide that starts where a slip has just stopped: the slip left there (1e-10, the residue of
+the stop's location) has a direction of its own, which may be the opposite of the one the
+slide starts in.  The mode selection tries each candidate onset with its own sliding
+direction (the slip is zero within the switching tolerance), not with the residue's: with
+the residue's, no direction is consistent and the state was refused as Painleve's paradox
+at mu = 0.1, where there is none."""
+
+import numpy as np
+import pytest
+
+from nonideal.modeling.modelfile import model_from_dict
+from nonideal.modes.switching import select_mode
+from nonideal.modes.types import SLIDE
+from nonideal.simulation.hybrid import Simulation
+
+
+def pulled_sphere(residue):
+    """A sphere at rest on a plane, pulled along x by 0.5 m g: rolling would need friction
+    (2/7) 0.5 m g = 0.143 m g > mu m g (mu = 0.1), so it slides, along +x."""
+    return model_from_dict({
+        "model": {"name": "pulled sphere", "format": 1},
+        "parameters": {"m": 1.0, "R": 0.1, "g": 9.81, "mu": 0.1},
+        "coordinates": {"q": ["x", "y", "z", "a", "b", "c"]},
+        "energy": {"kinetic": "m/2*(x'^2 + y'^2 + z'^2) + (2*m*R^2/5)/2*(a'^2 + b'^2 + c'^2)",
+                   "potential": "m*g*z - m*g/2*x"},
+        "contacts": [{"name": "plane", "gap": "z - R", "slip": ["x' - R*b'", "y' + R*a'"], "mu": "mu"}],
+        "initial": {"x": 0, "y": 0, "z": "R", "a": 0, "b": 0, "c": 0, "x'": 0, "y'": 0, "z'": 0,
+                    "a'": residue[1], "b'": residue[0], "c'": 0},
+        "simulation": {"t_end": 0.1}}, "pulled.toml")
+
+
+@pytest.mark.parametrize("residue", [(0.0, 0.0), (1e-9, 0.0), (0.0, 1e-9), (-1e-9, 7e-10)],
+                         ids=["none", "slip -1e-10 along x (against the pull)", "across", "oblique"])
+def test_the_slide_starts_along_the_pull_whatever_the_residue(residue):
+    sim = Simulation(pulled_sphere(residue))
+    q, qd = sim.initial_state()
+    mode = select_mode(sim.solver, 0.0, q, qd, tol_pos=1e-8, tol_vel=1e-8)
+    (name, cs), = mode.contacts
+    assert cs.state == SLIDE
+    assert np.allclose(cs.direction, (1.0, 0.0), atol=1e-6)
+    assert sim.solver.selecting == 0.0  # the selection's tolerance is not left behind
