@@ -13,6 +13,8 @@ Generating needs SymEngine (the kernel's expressions); the compiled library need
 
 import symengine as se
 
+from .native import renamed_dynamics
+
 __all__ = ["kernel_source", "rhs_source"]
 
 
@@ -24,25 +26,7 @@ def kernel_source(kernel) -> str:
     """``static void nonideal_kernel(const double *x, double *z)``: the nonzero entries of the
     kernel's flat output at the input ``x = [t, q, q', parameters]`` (the expressions of
     ``kernel.dynamics``, common subexpressions eliminated)."""
-    compiled = kernel.dynamics
-    exprs = [se.sympify(e) for e in compiled._exprs]
-    where = compiled._where.tolist() if compiled._where is not None else list(range(len(exprs)))
-    inputs = {s: se.Symbol(f"a{i}") for i, s in enumerate(kernel.symbols)}
-    floats: dict[float, se.Symbol] = {}
-
-    def rename(e):
-        e = e.xreplace({s: inputs[s] for s in e.free_symbols if s in inputs})
-        for f in e.atoms(se.RealDouble):
-            v = float(f)
-            if v not in floats:
-                floats[v] = se.Symbol(f"f{len(floats)}")
-        return e.xreplace({f: floats[float(f)] for f in e.atoms(se.RealDouble)}) if floats else e
-
-    exprs = [rename(e) for e in exprs]
-    free = set().union(*(e.free_symbols for e in exprs)) if exprs else set()
-    unknown = [s for s in free if not (str(s).startswith(("a", "f")) and str(s)[1:].isdigit())]
-    if unknown:
-        raise ValueError(f"symbols {sorted(map(str, unknown))} are not inputs of the kernel")
+    exprs, where, inputs, floats = renamed_dynamics(kernel)
     replacements, reduced = se.cse(exprs) if exprs else ([], [])
     lines = ["static void nonideal_kernel(const double *x, double *z)", "{"]
     lines += [f"    const double {v} = x[{i}];" for i, v in enumerate(inputs.values())

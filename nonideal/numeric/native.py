@@ -47,7 +47,8 @@ from pathlib import Path
 import numpy as np
 import symengine as se
 
-__all__ = ["available", "cache_dir", "native_of", "Native", "NotNative", "module_source", "CACHE_ENV"]
+__all__ = ["available", "cache_dir", "native_of", "Native", "NotNative", "module_source", "renamed_dynamics",
+           "CACHE_ENV"]
 
 CACHE_ENV = "NONIDEAL_CACHE_DIR"
 """Environment variable overriding the cache directory (default ``$XDG_CACHE_HOME/nonideal``,
@@ -128,9 +129,17 @@ def _checked(text: str, names: set[str]) -> str:
     return ast.unparse(tree.body)
 
 
-def _kernel_body(kernel) -> list[str]:
-    """The lines of ``kernel(x, z)``: locals for the inputs used, the common subexpressions,
-    then ``z[k] = ...`` for every compiled entry."""
+def renamed_dynamics(kernel):
+    """The compiled entries of ``kernel.dynamics`` with the inputs renamed ``a<k>`` (the input
+    vector's order) and the floats ``f<k>``: ``(exprs, where, inputs, floats)``, *where* the
+    entries' positions in the flat output, *inputs* ``{symbol: a<k>}``, *floats* ``{value:
+    f<k>}`` (the source generators of the numba and the C kernels).
+
+    Raises
+    ------
+    NotNative
+        A symbol that is not an input of the kernel.
+    """
     compiled = kernel.dynamics
     exprs = [se.sympify(e) for e in compiled._exprs]
     where = compiled._where.tolist() if compiled._where is not None else list(range(len(exprs)))
@@ -150,6 +159,13 @@ def _kernel_body(kernel) -> list[str]:
     unknown = [s for s in free if not (str(s).startswith(("a", "f")) and str(s)[1:].isdigit())]
     if unknown:
         raise NotNative(f"symbols {sorted(map(str, unknown))}")
+    return exprs, where, inputs, floats
+
+
+def _kernel_body(kernel) -> list[str]:
+    """The lines of ``kernel(x, z)``: locals for the inputs used, the common subexpressions,
+    then ``z[k] = ...`` for every compiled entry."""
+    exprs, where, inputs, floats = renamed_dynamics(kernel)
     replacements, reduced = se.cse(exprs) if exprs else ([], [])
     names = {str(v) for v in inputs.values()} | {str(v) for v in floats.values()}
     lines = [f"    {v} = x[{i}]" for i, (s, v) in enumerate(inputs.items())
