@@ -24,7 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..numeric.consistency import initial_branch
-from ..numeric.contact_kernel import contact_kernel_of
+from ..numeric.contact_kernel import SLIP_FLOOR, contact_kernel_of
 from ..modeling.contacts import Coulomb, CoulombContensou, LinearizedCoulomb, RegularizedCoulomb
 from ..numeric.contensou import contensou_shape
 from ..equations.dynamics import dynamics_of
@@ -185,8 +185,8 @@ class ModeSolver:
         if qd is None:
             qd = self.x[1 + self.n:1 + 2 * self.n]
         ref = self.reference.get(c)
-        # |U| > 1e-12 (1 + max |q'|); the cheap bound 2e-12 (1 + |q'|) decides all but tiny slips
-        if nrm > 2e-12 * (1.0 + math.sqrt(qd @ qd)) or nrm > 1e-12 * (1.0 + max_abs(qd)):
+        # |U| > SLIP_FLOOR (1 + max |q'|); the cheap bound 2 SLIP_FLOOR (1 + |q'|) decides all but tiny slips
+        if nrm > 2.0 * SLIP_FLOOR * (1.0 + math.sqrt(qd @ qd)) or nrm > SLIP_FLOOR * (1.0 + max_abs(qd)):
             s = U / nrm
             # analytic continuation through U = 0 within a step: keep the orientation of the
             # slip at the start of the step, so that the right-hand side stays smooth up to
@@ -205,16 +205,18 @@ class ModeSolver:
         (``1e-8 (1 + max |q'|)``) is the residue of a stop, not a direction: the mode's own
         sliding direction is the reference (the residue may point the other way, and friction
         oriented by it would push the new slide on)."""
-        self.reference = {}
+        previous, self.reference = ({} if start else self.reference), {}
         for c, (name, cs) in enumerate(mode.contacts):
             if cs.state == SLIDE and self.ck.dims[c] > 1:
                 U = motion.slip(c)
                 nrm = math.sqrt(U @ U)
-                scale = 1e-12 * (1.0 + max_abs(motion.qd))
+                scale = SLIP_FLOOR * (1.0 + max_abs(motion.qd))
                 if start and len(cs.direction) == len(U) and nrm <= 1e-8 * (1.0 + max_abs(motion.qd)):
                     self.reference[c] = np.array(cs.direction, dtype=float)
                 elif nrm > scale:
                     self.reference[c] = U / nrm
+                elif c in previous:  # below the floor the slip has no direction: the reference stays
+                    self.reference[c] = previous[c]
                 elif cs.direction:
                     self.reference[c] = np.array(cs.direction, dtype=float)
 

@@ -31,7 +31,7 @@ import symengine as se
 from scipy.linalg import lapack
 from scipy.sparse import issparse
 
-from ..numeric.contact_kernel import contact_kernel_of
+from ..numeric.contact_kernel import SLIP_FLOOR, contact_kernel_of
 from ..modeling.contacts import RegularizedCoulomb
 from ..equations.dynamics import dynamics_of
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, Mode, RowSpec
@@ -400,7 +400,7 @@ class ModeFunction:
     direction: an input ``+-1`` for one component; ``rho U/|U|`` for two, ``rho = sign(U .
     s_ref)`` with the slip reference an input; ``U/sqrt(|U|^2 + eps^2)`` for the smooth law),
     ``[F; -gamma]``, ``B^T q'``, the friction part of it, the powers ``[P_nc, P_t]`` and, for
-    two slip components, the guards ``|U| - 2e-12 (1 + |q'|)`` and ``U . s_ref``: where a guard
+    two slip components, the guards ``|U| - 2 SLIP_FLOOR (1 + |q'|)`` and ``U . s_ref``: where a guard
     fails (slip ~ 0, orientation undefined) the caller takes the index path of
     :class:`ModeSystem`, whose :meth:`~nonideal.modes.solver.ModeSolver.friction_shape` decides.
 
@@ -461,7 +461,7 @@ class ModeFunction:
                         dot = sum((u * v for u, v in zip(U, ref)), zero)
                         shape = [u * dot / (se.Abs(dot) * norm) for u in U]
                         speed = se.sqrt(sum((v * v for v in qd), zero))
-                        guards += [norm - 2e-12 * (1 + speed), dot]
+                        guards += [norm - 2 * SLIP_FLOOR * (1 + speed), dot]
                     fcol = [cs.sigma * cd.mu * sum((sk * w[i] for sk, w in zip(shape, cd.W)), zero)
                             for i in range(n)]
                     b = [gi - fi for gi, fi in zip(g, fcol)]

@@ -36,6 +36,7 @@ import numpy as np
 
 from scipy.integrate import DOP853 as _D
 
+from .contact_kernel import SLIP_FLOOR
 from .contact_system import definite, guards, residuals, rhs
 from .integrator import error_norm, interpolate, njit
 
@@ -208,10 +209,12 @@ def _references(S, y, z):
         for l in range(d):
             nrm += z[u0 + l] * z[u0 + l]
         nrm = math.sqrt(nrm)
-        if nrm > 1e-12 * (1.0 + qmax):
+        if nrm > SLIP_FLOOR * (1.0 + qmax):
             for l in range(d):
                 ref[k, l] = z[u0 + l] / nrm
             hasref[k] = True
+        elif hasref[k]:
+            pass  # below the floor the slip has no direction: the reference stays
         elif slidef[k, 5] != 0.0:
             for l in range(d):
                 ref[k, l] = slidef[k, 2 + l]

@@ -21,7 +21,17 @@ from ..modeling.contacts import IdealRolling
 from ..modeling.model import Model
 from .kernel import Compiled
 
-__all__ = ["ContactKernel", "contact_kernel_of"]
+__all__ = ["ContactKernel", "contact_kernel_of", "SLIP_FLOOR"]
+
+SLIP_FLOOR = 1e-9
+"""A two-component slip below this fraction of the speeds (``1 + max |q'|``; the cheap bound
+``2 SLIP_FLOOR (1 + |q'|)`` decides all but the smallest) has no direction of its own: the
+friction of a sliding contact then acts along the slip's reference -- the direction of the
+slip at the start of the step, or the mode's own where the slide starts -- not along the
+slip's rounding or the residue of a stop (1e-10 of the speeds), whose direction flips from
+one evaluation to the next.  Near a stop the friction is thus constant over the last
+``SLIP_FLOOR`` of the slip, which passes through zero smoothly (its stop located as any
+event); after an onset it acts along the onset's direction until the slip has grown."""
 
 
 class ContactKernel:

@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 
+from .contact_kernel import SLIP_FLOOR
 from .integrator import njit
 
 __all__ = ["rhs", "guards", "residuals", "definite"]
@@ -114,7 +115,7 @@ def rhs(kern, S, t, y, dy):
             for l in range(d):
                 nrm += z[u0 + l] * z[u0 + l]
             nrm = math.sqrt(nrm)
-            if nrm > 2e-12 * (1.0 + math.sqrt(q2)) or nrm > 1e-12 * (1.0 + qmax):
+            if nrm > 2.0 * SLIP_FLOOR * (1.0 + math.sqrt(q2)) or nrm > SLIP_FLOOR * (1.0 + qmax):
                 dot = 0.0
                 for l in range(d):
                     sh[l] = z[u0 + l] / nrm

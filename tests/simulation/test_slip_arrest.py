@@ -1,11 +1,13 @@
-"""A rigid body sliding on two tangential directions under exact Coulomb friction stops in finite
-time, its slip direction turning as the slip vanishes: the integrator's steps shrink with the
-time left and never reach the stop.  The rattleback of Kane & Levinson 1982's moments (the
-gallery's paraboloid model) with mu = 0.1, pitched by 0.2 rad and spun at -2 rad/s, sticks and
-slips about 35 times in 5 s: a stop whose steps collapse is located by extrapolation of the slip
-to zero (``guards.arrest``), and each slide that starts from a stop takes the direction the
-mode selection chose, not that of the slip left by the stop.  A stall that remains (other
-starts of the same body) is named as a vanishing slip."""
+"""A rigid body sliding in two tangential directions under exact Coulomb friction stops in
+finite time, its slip direction turning as the slip vanishes; and a slide that starts where a
+slip stopped starts from the stop's residue (1e-10 of the speeds), which has a direction of its
+own.  The rattleback of Kane & Levinson 1982's moments (the gallery's paraboloid model) with
+mu = 0.1 sticks and slips 30-40 times in 5 s from each of these starts; before, four of the
+five failed ("the step size collapsed", or a Painleve refusal at mu = 0.1) and the fifth took
+26 s.  What made them run: below ``SLIP_FLOOR`` of the speeds the friction acts along the
+slip's reference (its direction at the start of the step, or the onset's), not along the
+rounding of the slip; the mode selection tries each onset with its own direction; a stop whose
+steps collapse is located by extrapolation (``guards.arrest``)."""
 
 from pathlib import Path
 
@@ -15,9 +17,12 @@ import pytest
 import nonideal
 from nonideal import gallery
 from nonideal.errors import IntegrationFailed
-from nonideal.modeling.modelfile import load_model
+from nonideal.modeling.modelfile import load_model, model_from_dict
+from nonideal.modes.types import ContactState, Mode, SLIDE
+from nonideal.simulation.hybrid import Simulation
+from nonideal.simulation.slipstall import slip_stall
 
-pytestmark = pytest.mark.slow
+STARTS = [(0.05, -2.0), (0.1, -2.0), (0.2, -2.0), (0.1, -5.0), (0.3, -1.0)]
 
 
 def rough_rattleback(tmp_path, pitch, spin):
@@ -31,25 +36,50 @@ def rough_rattleback(tmp_path, pitch, spin):
     return load_model(path)
 
 
-def test_a_rough_rattleback_sticks_and_slips_through_its_arrests(tmp_path):
-    pytest.importorskip("numba")
-    tr = nonideal.simulate(rough_rattleback(tmp_path, 0.2, -2.0), native=True)
+def check(tr):
     assert tr.t[-1] == 5.0
     kinds = [e["type"] for e in tr.events]
-    assert kinds.count("stick") >= 5 and kinds.count("slip") >= 5
-    # every stick ends a slide and every slip starts one: the modes around each event agree
-    for e in tr.events:
-        assert e["mode"] in ("table:stick", "table:slide")
+    assert kinds.count("stick") >= 10 and kinds.count("slip") >= 10
     E = tr.energy
-    assert tr.diagnostics["energy_balance_relative"] < 1e-8
+    assert tr.diagnostics["energy_balance_relative"] < 1e-7
     assert np.max(np.diff(E["friction_work"])) <= 1e-12  # friction never does positive work
     assert E["friction_work"][-1] < -1e-4                 # and it did work: the body slid
     assert tr.diagnostics["constraint_residual_max"] < 1e-9
 
 
-def test_a_slip_that_vanishes_without_a_stop_is_named(tmp_path):
-    """Where the slip hovers at the level of rounding (no stop ahead to extrapolate to), the
-    stall says so instead of blaming a right-hand side that is not smooth."""
+@pytest.mark.slow
+@pytest.mark.parametrize("pitch, spin", STARTS, ids=[f"pitch {p} rad, {w} rad/s" for p, w in STARTS])
+def test_a_rough_rattleback_sticks_and_slips_through_its_stops(tmp_path, pitch, spin):
     pytest.importorskip("numba")
-    with pytest.raises(IntegrationFailed, match=r"slip of the sliding contact 'table' is vanishing"):
-        nonideal.simulate(rough_rattleback(tmp_path, 0.1, -2.0), native=True, t_end=1.0)
+    check(nonideal.simulate(rough_rattleback(tmp_path, pitch, spin), native=True))
+
+
+@pytest.mark.slow
+def test_the_same_on_the_python_path(tmp_path):
+    """The start that failed natively but not in Python before: both paths now."""
+    check(nonideal.simulate(rough_rattleback(tmp_path, 0.1, -5.0), native=False))
+
+
+def test_a_slip_that_vanishes_in_a_stall_is_named():
+    """Where an integration stalls in a slide whose slip is at the level of rounding, the
+    message names the contact and the vanishing slip, not a right-hand side that is not smooth."""
+    model = model_from_dict({
+        "model": {"name": "sphere at rest", "format": 1},
+        "parameters": {"m": 1.0, "R": 0.1, "g": 9.81, "mu": 0.1},
+        "coordinates": {"q": ["x", "y", "z", "a", "b", "c"]},
+        "energy": {"kinetic": "m/2*(x'^2 + y'^2 + z'^2) + (2*m*R^2/5)/2*(a'^2 + b'^2 + c'^2)",
+                   "potential": "m*g*z"},
+        "contacts": [{"name": "plane", "gap": "z - R", "slip": ["x' - R*b'", "y' + R*a'"], "mu": "mu"}],
+        "initial": {"x": 0, "y": 0, "z": "R", "a": 0, "b": 0, "c": 0, "x'": 0, "y'": 0, "z'": 0,
+                    "a'": 0, "b'": 1e-10, "c'": 0},
+        "simulation": {"t_end": 0.1}}, "sphere.toml")
+    sim = Simulation(model)
+    q, qd = sim.initial_state()
+    mode = Mode(frozenset(), (("plane", ContactState(SLIDE, (1.0, 0.0))),))
+
+    class Stalled:  # the integrator's state where it stalled
+        t, y = 0.05, np.concatenate((q, qd))
+    with pytest.raises(IntegrationFailed, match=r"slip of the sliding contact 'plane' is vanishing \(\|U\| = 1e-11\)"):
+        slip_stall(sim, Stalled, mode)
+    Stalled.y = np.concatenate((q, qd + np.r_[0.5, 0, 0, 0, 0, 0]))  # sliding at 0.5 m/s: not this
+    slip_stall(sim, Stalled, mode)
