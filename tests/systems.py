@@ -45,3 +45,20 @@ def rotating_line(w=0.7):
         constraints=[Constraint.holonomic("line", "y*cos(w*t) - x*sin(w*t)")],
         initial={"x": 0.8, "y": 0.0, "x'": 0.3, "y'": "0.8*w"},
     )
+
+
+def sphere_on_plane(pull=0.0, spin=(0.0, 0.0), mu=0.1):
+    """A sphere (m = 1, R = 0.1) at rest on a rough plane (Coulomb, two slip components), pulled
+    along x by *pull* m g; *spin* = (b', a') gives it the slip (-R b', R a') of those rates."""
+    from nonideal.modeling.modelfile import model_from_dict
+
+    return model_from_dict({
+        "model": {"name": "sphere on a plane", "format": 1},
+        "parameters": {"m": 1.0, "R": 0.1, "g": 9.81, "mu": mu},
+        "coordinates": {"q": ["x", "y", "z", "a", "b", "c"]},
+        "energy": {"kinetic": "m/2*(x'^2 + y'^2 + z'^2) + (2*m*R^2/5)/2*(a'^2 + b'^2 + c'^2)",
+                   "potential": f"m*g*z - {pull}*m*g*x"},
+        "contacts": [{"name": "plane", "gap": "z - R", "slip": ["x' - R*b'", "y' + R*a'"], "mu": "mu"}],
+        "initial": {"x": 0, "y": 0, "z": "R", "a": 0, "b": 0, "c": 0, "x'": 0, "y'": 0, "z'": 0,
+                    "a'": spin[1], "b'": spin[0], "c'": 0},
+        "simulation": {"t_end": 0.1}}, "sphere.toml")

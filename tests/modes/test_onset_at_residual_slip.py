@@ -8,25 +8,16 @@ at mu = 0.1, where there is none."""
 import numpy as np
 import pytest
 
-from nonideal.modeling.modelfile import model_from_dict
 from nonideal.modes.switching import select_mode
 from nonideal.modes.types import SLIDE
 from nonideal.simulation.hybrid import Simulation
+from tests.systems import sphere_on_plane
 
 
 def pulled_sphere(residue):
     """A sphere at rest on a plane, pulled along x by 0.5 m g: rolling would need friction
     (2/7) 0.5 m g = 0.143 m g > mu m g (mu = 0.1), so it slides, along +x."""
-    return model_from_dict({
-        "model": {"name": "pulled sphere", "format": 1},
-        "parameters": {"m": 1.0, "R": 0.1, "g": 9.81, "mu": 0.1},
-        "coordinates": {"q": ["x", "y", "z", "a", "b", "c"]},
-        "energy": {"kinetic": "m/2*(x'^2 + y'^2 + z'^2) + (2*m*R^2/5)/2*(a'^2 + b'^2 + c'^2)",
-                   "potential": "m*g*z - m*g/2*x"},
-        "contacts": [{"name": "plane", "gap": "z - R", "slip": ["x' - R*b'", "y' + R*a'"], "mu": "mu"}],
-        "initial": {"x": 0, "y": 0, "z": "R", "a": 0, "b": 0, "c": 0, "x'": 0, "y'": 0, "z'": 0,
-                    "a'": residue[1], "b'": residue[0], "c'": 0},
-        "simulation": {"t_end": 0.1}}, "pulled.toml")
+    return sphere_on_plane(pull=0.5, spin=residue)
 
 
 @pytest.mark.parametrize("residue", [(0.0, 0.0), (1e-9, 0.0), (0.0, 1e-9), (-1e-9, 7e-10)],

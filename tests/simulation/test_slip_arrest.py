@@ -17,10 +17,11 @@ import pytest
 import nonideal
 from nonideal import gallery
 from nonideal.errors import IntegrationFailed
-from nonideal.modeling.modelfile import load_model, model_from_dict
+from nonideal.modeling.modelfile import load_model
 from nonideal.modes.types import ContactState, Mode, SLIDE
 from nonideal.simulation.hybrid import Simulation
 from nonideal.simulation.slipstall import slip_stall
+from tests.systems import sphere_on_plane
 
 STARTS = [(0.05, -2.0), (0.1, -2.0), (0.2, -2.0), (0.1, -5.0), (0.3, -1.0)]
 
@@ -63,16 +64,7 @@ def test_the_same_on_the_python_path(tmp_path):
 def test_a_slip_that_vanishes_in_a_stall_is_named():
     """Where an integration stalls in a slide whose slip is at the level of rounding, the
     message names the contact and the vanishing slip, not a right-hand side that is not smooth."""
-    model = model_from_dict({
-        "model": {"name": "sphere at rest", "format": 1},
-        "parameters": {"m": 1.0, "R": 0.1, "g": 9.81, "mu": 0.1},
-        "coordinates": {"q": ["x", "y", "z", "a", "b", "c"]},
-        "energy": {"kinetic": "m/2*(x'^2 + y'^2 + z'^2) + (2*m*R^2/5)/2*(a'^2 + b'^2 + c'^2)",
-                   "potential": "m*g*z"},
-        "contacts": [{"name": "plane", "gap": "z - R", "slip": ["x' - R*b'", "y' + R*a'"], "mu": "mu"}],
-        "initial": {"x": 0, "y": 0, "z": "R", "a": 0, "b": 0, "c": 0, "x'": 0, "y'": 0, "z'": 0,
-                    "a'": 0, "b'": 1e-10, "c'": 0},
-        "simulation": {"t_end": 0.1}}, "sphere.toml")
+    model = sphere_on_plane(spin=(1e-10, 0.0))
     sim = Simulation(model)
     q, qd = sim.initial_state()
     mode = Mode(frozenset(), (("plane", ContactState(SLIDE, (1.0, 0.0))),))
