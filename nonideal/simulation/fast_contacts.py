@@ -251,7 +251,7 @@ class FastContacts:
                 break
         self.native_steps += taken
         if status in (4, 5):  # a step that may hold an event, or a step that collapsed (the hybrid
-            # loop watches the collapse: a slip's finite-time stop, guards.arrest): back for a while
+            # loop watches the collapse and names its cause): back for a while
             self.handbacks += 1
             self._cooldown = min(64, 2 * self._cooldown) if taken < 2 else COOLDOWN
             self._wait = self._cooldown

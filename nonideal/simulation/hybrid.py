@@ -37,7 +37,7 @@ from ..numeric.kernel import kernel_of, max_abs, parameter_vector
 from ..modes.switching import impact, select_mode
 from ..modes.validation import validate_state
 from .budget import MAX_SAMPLES, Block, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
-from .guards import ARREST_STEPS, GuardRates, Step, arrest, event_hits, with_step_limit
+from .guards import GuardRates, Step, event_hits, with_step_limit
 from .singular import BRANCHES, JUMP_FROM, MassGuard, Regularity, explain_stall, singular_level
 from .extended import reduce
 from ..equations.high_order import extension_of
@@ -424,8 +424,7 @@ class Simulation:
                 inertia.check(step)
                 support.check(t_new, ode.y)
                 rates_new = guard_rates.at(motion, h)
-                hits = event_hits(step, events, armed, tols, g_prev, g_new, (rates, rates_new)) or \
-                    (arrest(step, events, armed, g_new) if tiny >= ARREST_STEPS else [])  # a slip's finite-time stop
+                hits = event_hits(step, events, armed, tols, g_prev, g_new, (rates, rates_new))
                 singular = regularity.crossing(step, watched, level) if watched else None
                 passed = None  # a singular instant carried over on the smooth branch
                 if singular is not None and (not hits or singular <= min(hits)[0]):

@@ -3,10 +3,11 @@
 Under the exact Coulomb law a contact that slides in two tangential directions stops in finite
 time; as its slip ``U`` vanishes, its direction may turn ever faster (the friction force,
 ``-mu N U/|U|``, turns with it), and the solution's higher derivatives grow like inverse
-powers of the time left.  The hybrid loop locates such a stop by extrapolation once its steps
-have collapsed (:func:`~nonideal.simulation.guards.arrest`); where the slip instead hovers at
-the level of rounding without a stop to extrapolate to, the integration stalls.  This module
-says so, rather than the generic explanation of a right-hand side that is not smooth.
+powers of the time left.  Below :data:`~nonideal.numeric.contact_kernel.SLIP_FLOOR` of the
+speeds the friction acts along the slip's reference, so the slip passes through zero smoothly
+and its stop is located as any event; should an integration still stall at a slip that
+hovers at the level of rounding, this module says so, rather than the generic explanation of
+a right-hand side that is not smooth.
 """
 
 from __future__ import annotations

@@ -6,8 +6,8 @@ mu = 0.1 sticks and slips 30-40 times in 5 s from each of these starts; before, 
 five failed ("the step size collapsed", or a Painleve refusal at mu = 0.1) and the fifth took
 26 s.  What made them run: below ``SLIP_FLOOR`` of the speeds the friction acts along the
 slip's reference (its direction at the start of the step, or the onset's), not along the
-rounding of the slip; the mode selection tries each onset with its own direction; a stop whose
-steps collapse is located by extrapolation (``guards.arrest``)."""
+rounding of the slip; the mode selection tries each onset with its own direction; a slide that
+starts from a stop takes that direction as its reference."""
 
 from pathlib import Path
 
