@@ -210,10 +210,10 @@ class ModeSolver:
             if cs.state == SLIDE and self.ck.dims[c] > 1:
                 U = motion.slip(c)
                 nrm = math.sqrt(U @ U)
-                scale = SLIP_FLOOR * (1.0 + max_abs(motion.qd))
-                if start and len(cs.direction) == len(U) and nrm <= 1e-8 * (1.0 + max_abs(motion.qd)):
+                speeds = 1.0 + max_abs(motion.qd)
+                if start and len(cs.direction) == len(U) and nrm <= 1e-8 * speeds:
                     self.reference[c] = np.array(cs.direction, dtype=float)
-                elif nrm > scale:
+                elif nrm > SLIP_FLOOR * speeds:
                     self.reference[c] = U / nrm
                 elif c in previous:  # below the floor the slip has no direction: the reference stays
                     self.reference[c] = previous[c]

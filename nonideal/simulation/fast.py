@@ -220,7 +220,7 @@ class FastPhases:
                         nat.kernel, t, y, f, h_abs, float(t_end), float(ode.rtol), atol, float(ode.max_step),
                         w, ix, grid, nt, NATIVE_CHUNK, tiny + 4e-16 * abs(t_end))
             step = times is None
-            if plain and not solver.ck and hasattr(emit, "many"):  # nothing but the motion: arrays
+            if plain and not solver.ck:  # nothing but the motion: arrays (emit.many)
                 emit.many(T, Y, mode, DY[:, n:2 * n], step)
             elif plain:  # without rows, the derivative holds the whole motion
                 system = system_of(solver.kernel, mode)

@@ -17,6 +17,7 @@ import numpy as np
 from ..errors import IntegrationFailed
 from ..modes.motion import Motion
 from ..modes.types import SLIDE
+from ..numeric.kernel import max_abs
 
 __all__ = ["SLIP_LEVEL", "slip_stall"]
 
@@ -27,11 +28,11 @@ SLIP_LEVEL = 1e-8
 def slip_stall(sim, ode, mode) -> None:
     """Raise :class:`~nonideal.errors.IntegrationFailed` naming the sliding contact of *mode*
     whose two-component slip is vanishing at the solver's state *ode*, if there is one."""
-    solver, n = sim.solver, sim.n
+    solver = sim.solver
     if solver.ck is None:
         return
     motion = Motion(solver, mode, float(ode.t), np.asarray(ode.y, dtype=float))
-    speed = 1.0 + float(np.max(np.abs(motion.qd))) if n else 1.0
+    speed = 1.0 + max_abs(motion.qd)
     for c, (name, cs) in enumerate(mode.contacts):
         if cs.state != SLIDE or solver.ck.dims[c] < 2:
             continue
