@@ -292,6 +292,7 @@ class Loop:
     """
 
     def __init__(self, path, ny):
+        self.path = path
         self.lib = ctypes.CDLL(path)
         self.ny = ny
         self.lib.nonideal_phase.restype = ctypes.c_int

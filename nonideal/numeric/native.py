@@ -196,8 +196,10 @@ class Native:
     loop of :mod:`nonideal.numeric.integrator`: :meth:`buffers` for a mode structure, and
     ``rhs``, ``phase``, ``evaluate`` of that module."""
 
-    def __init__(self, module, kernel):
+    def __init__(self, module, kernel, key: str = ""):
         from . import integrator
+
+        self.key = key  # the hash naming the module: its source, the loop's, the versions
 
         self.kernel = module.kernel
         self.rhs = module.rhs
@@ -317,7 +319,7 @@ def native_of(kernel) -> Native | None:
             # the generic loop is linked into the module's wrapper: its source is part of the key
             loop = Path(__file__).with_name("integrator.py").read_bytes()
             key = hashlib.sha256(f"{__version__}\0{numba.__version__}\0{source}".encode() + loop).hexdigest()
-            return Native(_load(source, key, kernel), kernel)
+            return Native(_load(source, key, kernel), kernel, key)
         except NotNative:
             return None
 

@@ -126,14 +126,37 @@ class FastPhases:
         if entry is None:
             return None
         loop, checked = entry
-        if not checked:  # the generated C is trusted once it computes what numba computes
-            want, got = np.empty(y.size), loop.rhs(t, list(y))
-            ok = bool(self.native.rhs(t, y, w.copy(), ix, want)) and got is not None \
-                and got == want.tolist()
+        if not checked:
             entry[1] = True
-            if not ok:
+            if not self._agrees(loop, w, ix, t, y):
                 entry[0] = loop = None
         return loop
+
+    def _agrees(self, loop, w, ix, t: float, y: np.ndarray) -> bool:
+        """Whether the C right-hand side of *loop* is the numba one's bit for bit (the generated
+        C is trusted once it computes what numba computes).  Compared at a fixed generic state
+        and the agreement recorded on disk beside the library, so that a later process neither
+        repeats it nor compiles numba's wrapper for it (0.4 s): the outcome depends on the
+        library alone, never on the run.  Where numba's solve fails at that state (a singular
+        system), compared at *(t, y)*, the phase's start, and not recorded."""
+        marker = f"{loop.path}.{self.native.key[:16]}.agrees"
+        if os.path.exists(marker):
+            return True
+        generic = np.array([0.6180339887498949 * (k + 1) % 1.0 + 0.1 for k in range(y.size)])
+        for tc, yc, record in ((0.6180339887498949, generic, True), (t, y, False)):
+            want = np.empty(y.size)
+            if not self.native.rhs(tc, yc, w.copy(), ix, want):
+                continue
+            got = loop.rhs(tc, list(yc))
+            ok = got is not None and np.array(got).tobytes() == want.tobytes()
+            if ok and record:
+                try:
+                    with open(marker, "w") as fh:
+                        fh.write("the C right-hand side equals numba's bit for bit\n")
+                except OSError:
+                    pass
+            return ok
+        return False
 
     def _build_c_loop(self, w, ix, ny):
         from ..numeric import cloop, cmode

@@ -230,7 +230,7 @@ def test_a_phase_in_c_is_the_numba_phase_bit_for_bit(make, times, monkeypatch):
 
 
 @needs_cc
-def test_a_c_right_hand_side_that_differs_from_numba_is_not_used(monkeypatch):
+def test_a_c_right_hand_side_that_differs_from_numba_is_not_used(cache, monkeypatch):
     """The generated C is trusted only where its right-hand side is numba's bit for bit: a
     wrong one (here: gravity doubled) leaves the phase to the numba loop, with its results."""
     from nonideal.numeric import cmode
@@ -248,3 +248,34 @@ def test_a_c_right_hand_side_that_differs_from_numba_is_not_used(monkeypatch):
     assert np.array_equal(got.q, ref.q)
     assert all(entry is None or entry[0] is None for key, entry in model._derived.items()
                if isinstance(key, tuple) and key[0] == "c loop")
+    assert not list(cache.glob("c/*.agrees")), "a disagreeing library recorded as agreeing"
+
+
+@needs_cc
+def test_the_agreement_of_a_c_library_is_recorded_once(cache, monkeypatch):
+    """The C right-hand side is compared with numba's once per library (at a fixed generic
+    state, so the outcome does not depend on the run); a later process (here: the same model
+    built afresh, the loaded modules forgotten) finds the record and neither compares again
+    nor calls numba's wrapper (by default, ``native=None``, it is not needed before the phase
+    goes native); the trajectory is the same bit for bit."""
+    from nonideal.numeric import cloop
+
+    kw = dict(t_end=60.0, rtol=1e-10, atol=1e-12)
+    first = simulate(pendulum(2, q0=0.5), **kw)
+    assert len(list(cache.glob("c/*.agrees"))) == 1
+    monkeypatch.setattr(native, "_LOADED", {})
+    model = pendulum(2, q0=0.5)
+    native_rhs = []
+    original = native.Native.__init__
+
+    def spying(self, *a):
+        original(self, *a)
+        rhs = self.rhs
+        self.rhs = lambda *b: native_rhs.append(1) or rhs(*b)
+    monkeypatch.setattr(native.Native, "__init__", spying)
+    calls = []
+    phase = cloop.Loop.phase_arrays
+    monkeypatch.setattr(cloop.Loop, "phase_arrays", lambda self, *a: calls.append(1) or phase(self, *a))
+    second = simulate(model, **kw)
+    assert calls and native_rhs == []
+    assert np.array_equal(first.q, second.q) and np.array_equal(first.qdd, second.qdd)
