@@ -17,6 +17,11 @@ def add_parser(sub, ctx) -> None:
     s.add_argument("--t-end", type=float, default=None, help="end time (default: [simulation] t_end)")
     s.add_argument("--times", help="output exactly at these times, comma-separated, strictly "
                    "increasing (negative times: --times=-1,0,1)")
+    s.add_argument("--grid", type=int, metavar="N", help="output on N uniform times from t0 to the "
+                   "end, with each event's state before and after its switch (default: "
+                   "[simulation] grid, else 1001)")
+    s.add_argument("--every-step", action="store_true", help="output at every accepted step of the "
+                   "integrator and at each event (beyond 5000 steps: every 2nd, 4th, ... step)")
     s.add_argument("--form", default="lagrange1", type=form_type(solvers), metavar="FORM",
                    help=solver_help)
     s.add_argument("--rtol", type=float, help="relative tolerance (default: [simulation] rtol)")
@@ -24,7 +29,8 @@ def add_parser(sub, ctx) -> None:
     s.add_argument("--method", type=method_type, metavar="METHOD",
                    help=f"integrator: {', '.join(METHODS)} (default: [simulation] method)")
     json_option(s)
-    s.add_argument("--csv", metavar="OUT", help="write the trajectory as CSV (at --times, else on 601 uniform samples)")
+    s.add_argument("--csv", metavar="OUT", help="write the trajectory as CSV (the samples of the JSON: "
+                   "--times, --every-step, or the output grid with each event's states)")
     s.add_argument("--plot", metavar="PNG", help="plot the trajectory, reactions and energy")
     s.add_argument("--animate", metavar="GIF", help="animation of the motion (.gif; .mp4 needs "
                    "ffmpeg; .png: the last frame): the bodies drawn from the model's geometry (in "
@@ -36,6 +42,15 @@ def run(args) -> int:
     from ..simulation.hybrid import simulate
 
     check_options(args)
+    problems = []
+    if args.grid is not None and args.grid < 2:
+        problems.append(f"--grid: must be an integer >= 2, the number of output times (got {args.grid})")
+    given = [flag for flag, on in (("--times", args.times is not None), ("--grid", args.grid is not None),
+                                   ("--every-step", args.every_step)) if on]
+    if len(given) > 1:
+        problems.append(f"{' and '.join(given)}: choose one output (exact times, a uniform grid, or every step)")
+    if problems:
+        raise ModelError(problems)
     model = load_spec(args.model, args.set)
     times = parse_times(args.times) if args.times is not None else None
     if args.t_end is not None and not args.t_end > model.t0:
@@ -59,22 +74,17 @@ def run(args) -> int:
             problems += exc.problems
         raise ModelError(problems, None if model.source == "<api>" else model.source)
     options = {}
-    for key in ("rtol", "atol", "method"):
+    for key in ("rtol", "atol", "method", "grid"):
         if getattr(args, key) is not None:
             options[key] = getattr(args, key)
+    if args.every_step:
+        options["every_step"] = True
     try:
         traj = simulate(model, t_end=args.t_end, times=times, form=args.form, **options)
     except MechanicsError as exc:
         raise explained(model, exc) from None
     outputs = Outputs()
-    fine = drawn = traj
-    if args.csv and times is None and len(traj.t) < PLOT_SAMPLES:
-        # the integrator's steps are far apart for a table: the same run sampled on a fine
-        # uniform grid (dense output; the events are in the JSON)
-        import numpy as np
-
-        grid = np.linspace(traj.t[0], traj.t[-1], PLOT_SAMPLES)
-        fine = simulate(model, t_end=traj.t[-1], times=grid, form=args.form, **options)
+    drawn = traj
     if args.plot or args.animate:
         # a drawing never splines through a few samples (--times): the same run on a fine grid
         # (dense output) with the events' instants on it, so that a switch and the forces'
@@ -82,7 +92,7 @@ def run(args) -> int:
         grid = plot_grid(traj)
         drawn = simulate(model, t_end=traj.t[-1], times=grid, form=args.form, **options)
     if args.csv:
-        outputs.add("--csv", args.csv, fine.to_csv)
+        outputs.add("--csv", args.csv, traj.to_csv)
     if args.animate:
         from ..plotting import animate_trajectory
 

@@ -169,6 +169,10 @@ class SimulationSettings:
     #: the relative compliance of each row in the ``least-norm`` rule, by constraint or contact
     #: name: ``(c,)`` for every component, ``(c_normal, c_tangential)`` for a contact; 1 if absent
     split_weights: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+    #: the output: a uniform grid of this many times and each event's state (None: the
+    #: default, 1001), or every accepted step
+    grid: int | None = None
+    every_step: bool = False
 
     def __post_init__(self):
         if isinstance(self.split_weights, Mapping):   # a number for every component, or a list
@@ -177,7 +181,7 @@ class SimulationSettings:
 
     def __hash__(self) -> int:
         return hash((self.t_end, self.rtol, self.atol, self.method, self.max_step, self.singular,
-                     self.split, tuple(sorted(self.split_weights.items()))))
+                     self.grid, self.every_step, self.split, tuple(sorted(self.split_weights.items()))))
 
 
 def split_problems(settings: SimulationSettings, constraints: Iterable[str],

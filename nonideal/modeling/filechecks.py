@@ -14,7 +14,7 @@ import sympy as sp
 from ..errors import ModelError, did_you_mean
 from .expressions import float_value, parse_expression
 
-__all__ = ["toml_problem", "control_characters", "unknown_keys", "is_number", "is_expr", "Checker",
+__all__ = ["toml_problem", "control_characters", "unknown_keys", "is_number", "is_expr", "Checker", "read_simulation",
            "describe", "short_value"]
 
 
@@ -169,3 +169,69 @@ def describe(value: Any) -> str:
 def short_value(value: Any) -> str:
     r = repr(value)
     return r if len(r) <= 50 else r[:47] + "..."
+
+
+def read_simulation(sim: dict, check: Checker, problems: list[str]) -> tuple[Any, dict]:
+    """``(t0, settings)`` of the ``[simulation]`` table *sim* (the keyword arguments of
+    :class:`~nonideal.modeling.declarations.SimulationSettings`)."""
+    t0 = check.number(sim, "t0", "[simulation]", 0.0)
+    settings = {}
+    for key in ("t_end", "max_step"):
+        if key in sim:
+            value = check.number(sim, key, "[simulation]", None, positive=key == "max_step")
+            if value is not None:
+                settings[key] = float(value)
+    for key in ("rtol", "atol"):
+        if key in sim:
+            value = check.number(sim, key, "[simulation]", None, positive=True)
+            if value is not None and key == "rtol" and not 2.3e-14 <= float(value) < 1:
+                problems.append(f"[simulation] rtol: must be at least 2.3e-14 (100 times the "
+                                f"machine precision, the finest the integrators resolve) and below 1 "
+                                f"(got {float(value):g})")
+            elif value is not None:
+                settings[key] = float(value)
+    for key in ("method", "split"):
+        if key in sim:
+            if isinstance(sim[key], str):
+                settings[key] = sim[key]
+            else:
+                problems.append(f"[simulation] {key}: must be a string (got {describe(sim[key])})")
+    if "split_weights" in sim:
+        settings["split_weights"] = split_weights(sim["split_weights"], check, problems)
+    if "singular" in sim:
+        if sim["singular"] in ("smooth", "stop"):
+            settings["singular"] = sim["singular"]
+        else:
+            problems.append("[simulation] singular: must be \"smooth\" (go on through a singular "
+                            "configuration of the constraints on the smooth branch) or \"stop\" "
+                            f"(got {describe(sim['singular'])})")
+    if "grid" in sim:
+        grid = sim["grid"]
+        if isinstance(grid, int) and not isinstance(grid, bool) and 2 <= grid <= 200_000:
+            settings["grid"] = grid
+        else:
+            problems.append("[simulation] grid: must be an integer from 2 to 200000, the number of "
+                            f"uniform output times (e.g. grid = 2001; got {describe(grid)})")
+    if "every_step" in sim:
+        if isinstance(sim["every_step"], bool):
+            settings["every_step"] = sim["every_step"]
+        else:
+            problems.append("[simulation] every_step: must be true (output at every accepted step) or "
+                            f"false (on the grid) (got {describe(sim['every_step'])})")
+    return t0, settings
+
+
+def split_weights(table: Any, check: Checker, problems: list[str]) -> dict[str, tuple]:
+    """``[simulation] split_weights = {name = c, contact = [c_normal, c_tangential]}``: numbers
+    or expressions in the parameters (their values checked with the model's names)."""
+    if not isinstance(table, dict):
+        problems.append(f"[simulation] split_weights: must be a table, e.g. split_weights = "
+                        f"{{wall = 1.0, floor = [1.0, 2.0]}} (got {describe(table)})")
+        return {}
+    out = {}
+    for name, value in table.items():
+        items = value if isinstance(value, list) else [value]
+        where = f"[simulation] split_weights {name}"
+        numbers = [check.number({"weight": v}, "weight", where, None, positive=True) for v in items]
+        out[name] = tuple(float(v) if v is not None else float("nan") for v in numbers)
+    return out

@@ -44,7 +44,7 @@ from .members import read_members
 from .model import Constraint, Model, resolve_parameters
 from .speeds import read_speeds_and_outputs
 
-from .filechecks import Checker, control_characters, describe, is_expr, toml_problem, unknown_keys
+from .filechecks import Checker, control_characters, describe, is_expr, read_simulation, toml_problem, unknown_keys
 
 __all__ = ["load_model", "model_from_dict", "FORMAT_VERSION"]
 
@@ -58,7 +58,7 @@ SECTION_KEYS = {
     "energy": {"kinetic", "potential"},
     "gravity": {"vector"},
     "simulation": {"t_end", "rtol", "atol", "method", "max_step", "t0", "split", "split_weights",
-                   "singular"},
+                   "singular", "grid", "every_step"},
     "forms": {"independent"},
 }
 CONSTRAINT_KEYS = {"name", "type", "expr", "reaction", "transform", "unilateral", "restitution",
@@ -445,38 +445,7 @@ def model_from_dict(data: dict[str, Any], source: str = "<dict>", default_name: 
     frames, points = read_frames_and_points(data, check, problems)
     members = read_members(_array_of_tables(data, "members", problems), check, problems)
 
-    sim = table("simulation")
-    t0 = check.number(sim, "t0", "[simulation]", 0.0)
-    settings = {}
-    for key in ("t_end", "max_step"):
-        if key in sim:
-            value = check.number(sim, key, "[simulation]", None, positive=key == "max_step")
-            if value is not None:
-                settings[key] = float(value)
-    for key in ("rtol", "atol"):
-        if key in sim:
-            value = check.number(sim, key, "[simulation]", None, positive=True)
-            if value is not None and key == "rtol" and not 2.3e-14 <= float(value) < 1:
-                problems.append(f"[simulation] rtol: must be at least 2.3e-14 (100 times the "
-                                f"machine precision, the finest the integrators resolve) and below 1 "
-                                f"(got {float(value):g})")
-            elif value is not None:
-                settings[key] = float(value)
-    for key in ("method", "split"):
-        if key in sim:
-            if isinstance(sim[key], str):
-                settings[key] = sim[key]
-            else:
-                problems.append(f"[simulation] {key}: must be a string (got {describe(sim[key])})")
-    if "split_weights" in sim:
-        settings["split_weights"] = _split_weights(sim["split_weights"], check, problems)
-    if "singular" in sim:
-        if sim["singular"] in ("smooth", "stop"):
-            settings["singular"] = sim["singular"]
-        else:
-            problems.append("[simulation] singular: must be \"smooth\" (go on through a singular "
-                            "configuration of the constraints on the smooth branch) or \"stop\" "
-                            f"(got {describe(sim['singular'])})")
+    t0, settings = read_simulation(table("simulation"), check, problems)
     initial = data.get("initial", {})
     if not isinstance(initial, dict):
         problems.append("[initial]: must be a table name = value")
@@ -574,22 +543,6 @@ class _ConstraintSpec(dict):
         return Constraint(self["name"], self["expr"], self["kind"], self["unilateral"],
                           self["reaction"], self["transform"], restitution=self["restitution"],
                           losses=self["losses"], root=self["root"], cost=self["cost"])
-
-
-def _split_weights(table: Any, check: Checker, problems: list[str]) -> dict[str, tuple]:
-    """``[simulation] split_weights = {name = c, contact = [c_normal, c_tangential]}``: numbers
-    or expressions in the parameters (their values checked with the model's names)."""
-    if not isinstance(table, dict):
-        problems.append(f"[simulation] split_weights: must be a table, e.g. split_weights = "
-                        f"{{wall = 1.0, floor = [1.0, 2.0]}} (got {describe(table)})")
-        return {}
-    out = {}
-    for name, value in table.items():
-        items = value if isinstance(value, list) else [value]
-        where = f"[simulation] split_weights {name}"
-        numbers = [check.number({"weight": v}, "weight", where, None, positive=True) for v in items]
-        out[name] = tuple(float(v) if v is not None else float("nan") for v in numbers)
-    return out
 
 
 def _array_of_tables(data: dict, key: str, problems: list[str]) -> list[dict]:

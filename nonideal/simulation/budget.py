@@ -1,7 +1,9 @@
 """Bounded memory and runs that cannot finish.
 
-A simulation keeps, by default, the state at every accepted step and at every event.  A long
-run (a pendulum to ``t_end = 1e5``: a million steps) would hold all of them; a run whose end
+A simulation's output is, by default, a uniform grid of :data:`GRID` times and each event's
+state before and after its switch (:func:`output_times`): its size does not depend on the
+steps.  On request (``every_step=True``) it keeps the state at every accepted step and at every
+event; a long run (a pendulum to ``t_end = 1e5``: a million steps) would hold all of them; a run whose end
 is out of reach (``t_end = 1e8``, or a stiff spring resolved by an explicit method) would grow
 without bound.  Three limits keep every run bounded:
 
@@ -34,12 +36,16 @@ from ..errors import ModelError, short_repr
 from ..modeling.arguments import real_number, require_form, require_mapping, require_model, sample_times
 
 __all__ = ["MAX_SAMPLES", "MAX_TIMES", "MAX_STEPS", "PROBE_STEPS", "MAX_SECONDS", "PROBE_SECONDS", "Block", "SampleBuffer", "StepBudget",
-           "check_times", "check_arguments", "sample_dense"]
+           "check_times", "check_arguments", "sample_dense", "GRID", "output_times"]
 
 MAX_SAMPLES = 5_000
 """Step samples kept by default (events and requested times come on top): a long run's
 output stays a few megabytes of JSON (a rigid body with four contacts: ~0.9 kB per sample)
 however many steps it takes; ``max_samples=None`` keeps every step."""
+GRID = 1001
+"""Uniform sample times of a run's output by default, ``t0`` and ``t_end`` included; each
+event's state before and after its switch comes on top (``grid=``, ``--grid``; every accepted
+step instead with ``every_step=True``, ``--every-step``)."""
 MAX_TIMES = 200_000
 """Requested sample times (``--times``, ``times=``) at most."""
 MAX_STEPS = 5_000_000
@@ -50,6 +56,35 @@ MAX_SECONDS = 600.0
 """Processor time a run may need (extrapolated from its progress) before it is refused."""
 PROBE_SECONDS = 1.0
 """Processor time a run takes before its total is extrapolated (read every 64 steps)."""
+
+
+def output_times(model, times, t_end, every_step: bool, grid: int):
+    """``(times, t_end, at_events)`` of a run: the requested *times* checked (the end time
+    defaults to the model's, or to the last of *times*); else, unless *every_step*, the uniform
+    grid of *grid* times from ``t0`` to the end, with ``at_events`` true: each event's state
+    before and after its switch is sampled too.  ``times=None``: every accepted step."""
+    t0, source = model.t0, None if model.source == "<api>" else model.source
+    if times is not None:
+        times = np.array([float(s) for s in times])
+        if not np.all(np.isfinite(times)):
+            raise ModelError("--times: the sample times must be finite numbers")
+        if times.size > 1 and np.any(np.diff(times) <= 0):
+            raise ModelError("--times: the sample times must be strictly increasing "
+                             f"(got {', '.join(f'{v:g}' for v in times)})")
+        if times.size and times[0] < t0:
+            raise ModelError(f"--times: {times[0]} is before t0 = {t0}")
+        check_times(times)
+    if t_end is None:
+        t_end = float(times[-1]) if times is not None and times.size else model.simulation.t_end
+    if t_end is None:
+        raise ModelError("no end time: give [simulation] t_end in the model or --t-end", source)
+    if times is not None and times.size and times[-1] > t_end:
+        t_end = float(times[-1])
+    if times is not None or every_step:
+        return times, t_end, False
+    grid = np.linspace(t0, t_end, grid)
+    grid[-1] = t_end
+    return grid, t_end, True
 
 
 def check_times(times: np.ndarray) -> None:
@@ -230,6 +265,15 @@ def check_arguments(model, t_end, times, form, options: dict) -> None:
     native = options.get("native")
     if native is not None and not isinstance(native, bool):
         raise ModelError(f"{f}: native must be True, False or None (after a phase's first steps), got {native!r}")
+    grid = options.get("grid")
+    if grid is not None and (isinstance(grid, bool) or not isinstance(grid, numbers.Integral) or grid < 2):
+        raise ModelError(f"{f}: grid must be an integer >= 2 (the output's uniform sample times), got {grid!r}")
+    if options.get("every_step") is not None and not isinstance(options["every_step"], bool):
+        raise ModelError(f"{f}: every_step must be True or False, got {options['every_step']!r}")
+    if grid is not None and options.get("every_step"):
+        raise ModelError(f"{f}: grid and every_step=True: choose one output (a uniform grid or every step)")
+    if grid is not None and grid > MAX_TIMES:
+        raise ModelError(f"{f}: grid = {grid}: at most {MAX_TIMES} sample times (every one is kept in memory)")
     limit = options.get("max_samples", MAX_SAMPLES)
     if limit is not None and (isinstance(limit, bool) or not isinstance(limit, numbers.Integral)
                               or limit < 2):

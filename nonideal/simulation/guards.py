@@ -66,9 +66,10 @@ from scipy.optimize import brentq, minimize_scalar
 from ..errors import NonidealError
 from ..modes.motion import Motion
 from ..numeric.kernel import SingularMatrix
+from .events import SlipStop
 
-__all__ = ["PROBES", "RESOLVE", "RATE_STEP", "StepScan", "Step", "GuardRates", "step_limit", "with_step_limit",
-           "event_hits"]
+__all__ = ["PROBES", "RESOLVE", "RATE_STEP", "ARREST_STEPS", "ARREST_REACH", "StepScan", "Step", "GuardRates",
+           "step_limit", "with_step_limit", "event_hits", "arrest"]
 
 PROBES = 3
 """Interior samples of the event functions per accepted step."""
@@ -370,6 +371,46 @@ def event_hits(step: Step, events, armed: list[bool], tols, g_prev, g_new,
             hits.append((te, k))
         elif now_armed:
             armed[k] = True
+    return hits
+
+
+ARREST_STEPS = 20
+"""Accepted steps in a row shorter than 1e-9 of the run's span (or of 1) after which a slip
+about to stop is located by :func:`arrest`."""
+ARREST_REACH = 8.0
+""":func:`arrest` takes a slip's zero that its linear extrapolation puts within this many of
+the last step's lengths past the step."""
+
+
+def arrest(step: Step, events, armed: list[bool], g_new, level: float) -> list[tuple[float, int]]:
+    """``(time, index)`` of the slip-stop events whose slip, positive and falling at the end of
+    *step*, reaches zero within :data:`ARREST_REACH` step lengths by its linear
+    extrapolation, at that zero; or, below *level* (the slip that counts as vanishing), at the
+    end of *step*.
+
+    The finite-time arrest of a two-component Coulomb slip: as the slip vanishes its direction
+    may turn ever faster (the friction force follows it), the solution's higher derivatives
+    grow like inverse powers of the time left, and the integrator's accepted steps shrink with
+    that time -- each step a fraction of the way, never across the instant.  Called after
+    :data:`ARREST_STEPS` such steps in a row: the time left is then below ~1e-8 of the span,
+    the slip ``g ~ |g'| (t* - t)``, and its zero ``t* = t + g / |g'|`` is located to the second
+    order in that time (the slope from the step's tangent, as the scan's).  A slip that hovers
+    below *level* instead (at the slip floor the friction turns from the slip's direction to
+    its reference and back, step after step) has stopped to that level: the stop is taken
+    where the steps are, and the mode selected there decides stick or a new slip."""
+    tangents = step.tangents()
+    if tangents is None:
+        return []
+    e, _, at_b = tangents
+    reach = ARREST_REACH * (step.b - step.a)
+    hits = []
+    for k, ev in enumerate(events):
+        if isinstance(ev, SlipStop) and armed[k] and g_new[k] > 0:
+            slope = (g_new[k] - ev.value(at_b)) / e
+            if slope < 0 and g_new[k] <= -slope * reach:
+                hits.append((step.b + g_new[k] / -slope, k))
+            elif g_new[k] <= level:
+                hits.append((step.b, k))
     return hits
 
 

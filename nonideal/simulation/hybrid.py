@@ -36,8 +36,9 @@ from ..modes.solver import ModeSolver
 from ..numeric.kernel import kernel_of, max_abs, parameter_vector
 from ..modes.switching import impact, select_mode
 from ..modes.validation import validate_state
-from .budget import MAX_SAMPLES, Block, SampleBuffer, StepBudget, check_arguments, check_times, sample_dense
-from .guards import GuardRates, Step, event_hits, with_step_limit
+from .budget import GRID, MAX_SAMPLES, Block, SampleBuffer, StepBudget, check_arguments, output_times, sample_dense
+from .slipstall import SLIP_LEVEL
+from .guards import ARREST_STEPS, GuardRates, Step, arrest, event_hits, with_step_limit
 from .singular import BRANCHES, JUMP_FROM, MassGuard, Regularity, explain_stall, singular_level
 from .extended import reduce
 from ..equations.high_order import extension_of
@@ -94,6 +95,10 @@ class Simulation:
         (:mod:`nonideal.simulation.fast`; the modes with contacts up to each step that may
         hold an event: :mod:`nonideal.simulation.fast_contacts`): None after a mode's first
         :data:`~nonideal.simulation.fast.NATIVE_STEPS` steps, True at once, False never.
+    grid, every_step : optional
+        The output (when :meth:`run` is given no times): ``grid`` uniform times with each
+        event's states (default ``[simulation] grid``, else :data:`~.budget.GRID`), or every
+        accepted step (``every_step=True``; ``max_samples`` of them, thinned beyond).
     """
 
     def __init__(self, model: Model, form: str = "lagrange1",
@@ -102,7 +107,7 @@ class Simulation:
                  max_step: float | None = None, independent=None, max_events: int = 10_000,
                  detect_jam: bool = True, specialize: bool = True,
                  max_samples: int | None = MAX_SAMPLES, singular: str | None = None,
-                 native: bool | None = None):
+                 native: bool | None = None, grid: int | None = None, every_step: bool | None = None):
         self.model = model
         self.kernel = kernel_of(model)
         self.params = parameter_vector(model, parameters)
@@ -120,6 +125,8 @@ class Simulation:
         self.max_events = max_events
         self._chain = (-np.inf, [])  # the modes events ended at one instant (all marginal there)
         self.max_samples = max_samples
+        self.grid = grid if grid is not None else (sim.grid or GRID)
+        self.every_step = every_step if every_step is not None else (sim.every_step and grid is None)
         self.detect_jam = detect_jam
         k = self.kernel
         self.contacts = bool(self.solver.ck)
@@ -289,8 +296,9 @@ class Simulation:
         t_end : float, optional
             Default: the model's ``[simulation] t_end`` (or the last of *times*).
         times : sequence of float, optional
-            Sample exactly at these times (dense output); default: every accepted step and
-            every event.
+            Sample exactly at these times (dense output).  Default: the uniform grid of
+            ``grid`` times (1001) and each event's state before and after its switch; every
+            accepted step and event with ``every_step=True``.
         initial : mapping, optional
             Overrides of initial values.
         stop_on : set of str, optional
@@ -310,25 +318,7 @@ class Simulation:
         """
         model = self.model
         t0, source = model.t0, None if model.source == "<api>" else model.source
-        if times is not None:
-            times = np.array([float(s) for s in times])
-            if not np.all(np.isfinite(times)):
-                raise ModelError("--times: the sample times must be finite numbers")
-            if times.size > 1 and np.any(np.diff(times) <= 0):
-                raise ModelError("--times: the sample times must be strictly increasing "
-                                 f"(got {', '.join(f'{v:g}' for v in times)})")
-            if times.size and times[0] < t0:
-                raise ModelError(f"--times: {times[0]} is before t0 = {t0}")
-            check_times(times)
-        if t_end is None:
-            if times is not None and times.size:
-                t_end = float(times[-1])
-            else:
-                t_end = model.simulation.t_end
-        if t_end is None:
-            raise ModelError("no end time: give [simulation] t_end in the model or --t-end", source)
-        if times is not None and times.size and times[-1] > t_end:
-            t_end = float(times[-1])
+        times, t_end, at_events = output_times(model, times, t_end, self.every_step, self.grid)
         n = self.n
         q0, qd0 = self.initial_state(initial)
         validate_state(self.solver, t0, q0, qd0)
@@ -424,7 +414,8 @@ class Simulation:
                 inertia.check(step)
                 support.check(t_new, ode.y)
                 rates_new = guard_rates.at(motion, h)
-                hits = event_hits(step, events, armed, tols, g_prev, g_new, (rates, rates_new))
+                hits = event_hits(step, events, armed, tols, g_prev, g_new, (rates, rates_new)) or \
+                    (arrest(step, events, armed, g_new, SLIP_LEVEL * (1 + max_abs(motion.qd))) if tiny >= ARREST_STEPS else [])  # a slip's finite-time stop
                 singular = regularity.crossing(step, watched, level) if watched else None
                 passed = None  # a singular instant carried over on the smooth branch
                 if singular is not None and (not hits or singular <= min(hits)[0]):
@@ -441,25 +432,29 @@ class Simulation:
                     if t > t_end:  # the end falls within the interval carried over
                         t, y = t_end, dense(t_end)
                     events_log.append(record)
+                    if times is None or at_events:
+                        ta = record["interval"][0]
+                        if at_events:
+                            next_time = sample_dense(dense, t_old, np.nextafter(ta, -np.inf), times, next_time, mode, emit)
+                        emit(ta, dense(ta), mode)
                     if times is not None:
                         next_time = sample_dense(dense, t_old, t, times, next_time, mode, emit)
-                    else:
-                        emit(record["interval"][0], dense(record["interval"][0]), mode)
                     pending = times is None
                     restart = True
                     continue
                 if hits:
                     te, k = min(hits)
                     ye = step.state(te)
-                    if times is None:
+                    if times is not None:  # (the default grid: up to the event, which is sampled)
+                        next_time = sample_dense(step.dense, t_old, np.nextafter(te, -np.inf) if at_events else te,
+                                                 times, next_time, mode, emit)
+                    if times is None or at_events:
                         emit(te, ye, mode)  # the state at the event, before the switch
-                    else:
-                        next_time = sample_dense(step.dense, t_old, te, times, next_time, mode, emit)
                     # stop on the kind the event watches, or on what the switch would do
                     switched = None if stop_on and events[k].kind in stop_on else \
                         self._switch(te, ye, mode, events[k])
                     if switched is None or (stop_on and switched[2]["type"] in stop_on):
-                        if times is not None:
+                        if times is not None and not at_events:
                             emit(te, ye, mode)
                         record = events[k].record(te) if switched is None else switched[2]
                         record["mode"] = mode.label()
@@ -488,9 +483,8 @@ class Simulation:
                                                 "switches (chattering or Zeno behaviour)", source)
                     mode = new_mode
                     t = te
-                    if times is None:
-                        pending = True
-                    elif next_time < times.size and abs(times[next_time] - t) <= 1e-14 * max(1, abs(t)):
+                    pending = times is None or at_events  # the state after the switch
+                    if times is not None and next_time < times.size and abs(times[next_time] - t) <= 1e-14 * max(1, abs(t)):
                         pending = True
                         next_time += 1
                     restart = True
@@ -535,7 +529,8 @@ class Simulation:
             emit(t, y, mode)
         if times is not None:
             while next_time < times.size and times[next_time] <= t + 1e-12 * max(1, abs(t)):
-                emit(times[next_time], y, mode)
+                if not (at_events and samples.last_time >= times[next_time]):  # (the end, sampled)
+                    emit(times[next_time], y, mode)
                 next_time += 1
         diagnostics = {
             "projections": projections,
@@ -546,6 +541,8 @@ class Simulation:
             "form": self.solver.form,
             "stabilization": "coordinate projection when residual > 1e-10 (relative)",
             "output_stride": samples.stride,
+            "output": "every step" if self.every_step and times is None else
+            (f"a uniform grid of {self.grid} times and each event's state" if at_events else "the requested times"),
         }
         if solver.charts is not None:
             diagnostics["chart_changes"] = solver.charts.changes - changes
@@ -566,9 +563,12 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
         Formalism used to evaluate the accelerations.
     **options
         ``parameters``, ``rtol``, ``atol``, ``method``, ``max_step``, ``independent``,
-        ``initial``, ``detect_jam``, ``specialize``, ``max_samples`` (step samples kept, default
-        5000; beyond, the step output is thinned -- ``diagnostics["output_stride"]`` --
-        events and requested times are always kept; ``None`` keeps every step), ``native``
+        ``initial``, ``detect_jam``, ``specialize``, ``grid`` (the output's uniform times,
+        default ``[simulation] grid`` or 1001, with each event's states), ``every_step`` (the
+        output at every accepted step instead), ``max_samples`` (with ``every_step``: step
+        samples kept, default 5000; beyond, the step output is thinned --
+        ``diagnostics["output_stride"]`` -- events and requested times are always kept;
+        ``None`` keeps every step), ``native``
         (numba for the phases it computes, :mod:`nonideal.simulation.fast`: None -- the
         default -- after a phase's first 1000 steps, True at once, False never).
 
@@ -584,7 +584,8 @@ def simulate(model: Model, t_end: float | None = None, times: Sequence[float] | 
     [0.0, 1.0]
     """
     allowed = ("parameters", "rtol", "atol", "method", "max_step", "independent", "max_events",
-               "detect_jam", "specialize", "initial", "stop_on", "max_samples", "singular", "native")
+               "detect_jam", "specialize", "initial", "stop_on", "max_samples", "singular", "native",
+               "grid", "every_step")
     unknown = [k for k in options if k not in allowed]
     if unknown:
         from ..errors import did_you_mean

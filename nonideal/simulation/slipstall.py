@@ -5,9 +5,11 @@ time; as its slip ``U`` vanishes, its direction may turn ever faster (the fricti
 ``-mu N U/|U|``, turns with it), and the solution's higher derivatives grow like inverse
 powers of the time left.  Below :data:`~nonideal.numeric.contact_kernel.SLIP_FLOOR` of the
 speeds the friction acts along the slip's reference, so the slip passes through zero smoothly
-and its stop is located as any event; should an integration still stall at a slip that
-hovers at the level of rounding, this module says so, rather than the generic explanation of
-a right-hand side that is not smooth.
+and its stop is located as any event; a slip that the steps cannot bring to zero, hovering
+below :data:`SLIP_LEVEL` of the speeds for many tiny steps, is stopped there
+(:func:`~nonideal.simulation.guards.arrest`).  Should an integration still stall at a slip
+that hovers at the level of rounding, this module says so, rather than the generic
+explanation of a right-hand side that is not smooth.
 """
 
 from __future__ import annotations

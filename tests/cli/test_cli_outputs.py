@@ -239,9 +239,10 @@ def test_csv_holds_the_contact_forces(capsys, tmp_path):
         assert row["mode_plane"] == data["mode"][k]
 
 
-def test_csv_without_times_is_a_fine_uniform_table(capsys, tmp_path):
-    # a parabolic slide takes a handful of integrator steps; the table has 601 rows at uniform
-    # times, each the dense output of the same run
+def test_csv_without_times_is_the_output_grid_with_the_events(capsys, tmp_path):
+    # a parabolic slide takes a handful of integrator steps; by default the table, as the JSON,
+    # has 1001 rows at uniform times (the dense output of the run) and two rows at each event,
+    # the states before and after its switch; --every-step gives the steps
     import numpy as np
 
     from nonideal import gallery
@@ -252,7 +253,14 @@ def test_csv_without_times_is_a_fine_uniform_table(capsys, tmp_path):
     rows = (tmp_path / "out.csv").read_text().splitlines()
     assert rows[0].startswith("t,")
     t = np.array([float(r.split(",")[0]) for r in rows[1:]])
-    assert len(t) == 601 and np.allclose(np.diff(t), t[-1] / 600, rtol=1e-9)
-    steps = json.loads((tmp_path / "out.json").read_text())["t"]
-    assert len(steps) < 100 and steps[-1] == pytest.approx(t[-1], rel=1e-14)
+    data = json.loads((tmp_path / "out.json").read_text())
+    events = [e["t"] for e in data["events"]]
+    assert np.array_equal(t, data["t"])
+    assert len(t) == 1001 + 2 * len(events) and np.all(np.diff(t) >= 0)
+    uniform = np.array([s for s in t if not any(s == e for e in events)])
+    assert np.allclose(np.diff(uniform), t[-1] / 1000, rtol=1e-9)
+    assert all((t == e).sum() == 2 for e in events) and events
+    code, _, err = cli(capsys, "simulate", path, "--every-step", "--json", tmp_path / "steps.json")
+    steps = json.loads((tmp_path / "steps.json").read_text())["t"]
+    assert code == 0 and len(steps) < 100 and steps[-1] == pytest.approx(t[-1], rel=1e-14)
 

@@ -19,6 +19,7 @@ from nonideal import gallery
 from nonideal.errors import IntegrationFailed
 from nonideal.modeling.modelfile import load_model
 from nonideal.modes.types import ContactState, Mode, SLIDE
+from nonideal.simulation.events import SlipStop
 from nonideal.simulation.hybrid import Simulation
 from nonideal.simulation.slipstall import slip_stall
 from tests.systems import sphere_on_plane
@@ -94,3 +95,40 @@ def test_the_tippe_top_under_exact_coulomb_friction_stops_slipping_and_sticks(tm
     assert tr.events[0]["t"] == pytest.approx(0.174662, abs=1e-5)
     assert tr.diagnostics["energy_balance_relative"] < 1e-8
     assert np.max(np.diff(tr.energy["friction_work"])) <= 1e-12
+
+
+class _Stop(SlipStop):
+    """A slip-stop whose value along the step's tangent is given (no mode to solve)."""
+
+    def value(self, motion):
+        return motion
+
+
+class _Step:
+    def __init__(self, a, b, before_end):
+        self.a, self.b, self.before_end = a, b, before_end
+
+    def tangents(self):
+        return 1e-3 * (self.b - self.a), None, self.before_end
+
+
+@pytest.mark.parametrize("g_end, g_before, armed, level, expected", [
+    (1e-10, 1e-10 + 1e-2 * 1e-9, True, 0.0, 1.0 + 1e-10 / 1e-2),  # falling at 1e-2: zero 1e-8 on
+    (5e-9, 5e-9, True, 1e-8, 1.0),          # hovering below the level: stopped where the steps are
+    (5e-9, 5e-9, True, 1e-9, None),         # hovering above it: not stopped
+    (5e-9, 4e-9, True, 1e-8, 1.0),          # rising below the level: stopped too
+    (1e-10, 2e-10, False, 1e-8, None),      # a guard not armed is never hit
+    (1e-6, 1e-6 + 1e-12, True, 1e-8, None)])  # falling, but its zero is far beyond the step
+def test_the_arrest_of_a_slip_the_steps_cannot_reach(g_end, g_before, armed, level, expected):
+    """``guards.arrest`` after a run of tiny steps: a falling slip's zero by linear extrapolation
+    (within ARREST_REACH step lengths), or, for a slip that hovers below the vanishing level,
+    the end of the step."""
+    from nonideal.simulation.guards import arrest
+
+    step = _Step(1.0 - 1e-6, 1.0, g_before)
+    stop = _Stop("stop", "table", 0)
+    hits = arrest(step, [stop], [armed], [g_end], level)
+    if expected is None:
+        assert hits == []
+    else:
+        assert len(hits) == 1 and hits[0][1] == 0 and hits[0][0] == pytest.approx(expected, rel=1e-15)

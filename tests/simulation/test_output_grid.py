@@ -1,0 +1,116 @@
+"""The default output: a uniform grid of times with each event's state before and after its
+switch (memory and file size bounded by the grid, not by the run's steps); every step on
+request (``every_step=True``, ``--every-step``)."""
+
+import numpy as np
+import pytest
+
+from nonideal import gallery, simulate
+from nonideal.errors import ModelError
+from nonideal.modeling.modelfile import model_from_dict
+from nonideal.simulation.budget import GRID
+from tests.helpers import run_cli
+from nonideal.gallery.nlink_pendulum import build as pendulum
+from tests.systems import sphere_on_plane
+
+
+def _split(traj):
+    """The grid samples (times of no event) and, per event time, the samples at it."""
+    events = sorted({float(e["t"]) for e in traj.events})
+    at_event = np.isin(traj.t, events)
+    return at_event, events
+
+
+@pytest.mark.parametrize("name, t_end", [("bouncing-ball", 2.0), ("block-on-incline", None),
+                                          ("painleve-rod", None)])
+def test_the_default_output_is_the_grid_and_each_events_states(name, t_end):
+    # (mode systems compiled after a number of calls would change the last digits between runs)
+    model, exact = gallery.load(name), dict(specialize=False)
+    traj = simulate(model, t_end=t_end, **exact)
+    end = traj.t[-1]
+    grid = np.linspace(model.t0, end, GRID)
+    at_event, events = _split(traj)
+    assert events, "a model without events tests nothing here"
+    assert np.array_equal(traj.t[~at_event], grid[~np.isin(grid, events)])
+    assert np.all(np.diff(traj.t) >= 0)
+    assert "uniform grid of 1001" in traj.diagnostics["output"]
+    # the grid's samples are the dense output of the same run: the run on the same requested
+    # times gives them bit for bit
+    asked = simulate(model, t_end=t_end, times=grid, **exact)
+    keep = ~np.isin(grid, events)
+    assert np.array_equal(traj.q[~at_event], asked.q[keep])
+    assert np.array_equal(traj.qd[~at_event], asked.qd[keep])
+    # each event's states, before and after the switch, are those of the run on every step
+    steps = simulate(model, t_end=t_end, every_step=True, **exact)
+    assert [e["t"] for e in steps.events] == [e["t"] for e in traj.events]
+    for te in events:
+        mine, theirs = traj.t == te, steps.t == te
+        assert mine.sum() == theirs.sum() >= 1
+        assert np.array_equal(traj.q[mine], steps.q[theirs])
+        assert np.array_equal(traj.qd[mine], steps.qd[theirs])
+    switches = [e for e in traj.events if e["type"] not in ("zeno",)]
+    assert sum((traj.t == e["t"]).sum() == 2 for e in switches) >= len(switches) - 1
+
+
+def test_a_long_native_run_is_bounded_by_the_grid():
+    # 300 s of a pendulum: thousands of steps (native, in compiled code), 1001 samples
+    model = pendulum(1, q0=0.5)
+    traj = simulate(model, t_end=300.0)
+    assert len(traj.t) == GRID and np.array_equal(traj.t, np.linspace(0.0, 300.0, GRID))
+    asked = simulate(model, t_end=300.0, times=np.linspace(0.0, 300.0, GRID))
+    assert np.array_equal(traj.q, asked.q) and np.array_equal(traj.qdd, asked.qdd)
+    steps = simulate(model, t_end=300.0, every_step=True)
+    assert len(steps.t) > 2000 and steps.diagnostics["output"] == "every step"
+    assert traj.q[-1] == pytest.approx(steps.q[-1], abs=1e-12)
+
+
+def test_a_grid_of_n_times_and_a_stop_at_an_event():
+    model = sphere_on_plane(pull=0.0, spin=(3.0, 0.0))   # slides, then rolls: one event
+    traj = simulate(model, grid=11)
+    at_event, events = _split(traj)
+    assert len(events) == 1 and (traj.t == events[0]).sum() == 2
+    assert np.array_equal(traj.t[~at_event], np.linspace(0.0, 0.1, 11))
+    stopped = simulate(model, grid=11, stop_on={"stick"})
+    assert stopped.t[-1] == events[0] and (stopped.t == events[0]).sum() == 1
+    assert np.array_equal(stopped.t[:-1], np.linspace(0.0, 0.1, 11)[np.linspace(0.0, 0.1, 11) < events[0]])
+
+
+def test_the_model_file_chooses_the_output():
+    def model(**simulation):
+        return model_from_dict({
+            "model": {"name": "fall"}, "parameters": {"g": 9.81}, "coordinates": {"q": ["x"]},
+            "energy": {"kinetic": "x'^2/2", "potential": "g*x"}, "initial": {"x": 1.0, "x'": 0.0},
+            "simulation": {"t_end": 0.4, **simulation}}, "fall.toml")
+    assert simulate(model(grid=5)).t.tolist() == [0.0, 0.1, 0.2, 0.30000000000000004, 0.4]
+    steps = simulate(model(every_step=True))
+    assert steps.diagnostics["output"] == "every step" and len(steps.t) != 5
+    assert len(simulate(model(every_step=True), grid=3).t) == 3   # the call's choice wins
+    for bad, message in (({"grid": 1}, "grid: must be an integer from 2"), ({"grid": 2.5}, "grid"),
+                         ({"every_step": "yes"}, "every_step: must be true")):
+        with pytest.raises(ModelError, match=message):
+            model(**bad)
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"grid": 1}, "grid must be an integer >= 2"), ({"grid": True}, "grid must be"),
+    ({"grid": 10 ** 7}, "at most"), ({"every_step": 1.0}, "every_step must be"),
+    ({"grid": 5, "every_step": True}, "choose one output")])
+def test_the_api_checks_the_output_options(options, message):
+    with pytest.raises(ModelError, match=message):
+        simulate(gallery.load("bouncing-ball"), **options)
+
+
+def test_the_command_line_chooses_the_output(tmp_path):
+    out = tmp_path / "o.json"
+    done = run_cli("simulate", "bouncing-ball", "--t-end", "0.4", "--grid", "5", "--json", str(out))
+    assert done.returncode == 0, done.stderr
+    import json
+
+    data = json.loads(out.read_text())
+    assert data["t"] == [0.0, 0.1, 0.2, 0.30000000000000004, 0.4] and "grid of 5" in data["diagnostics"]["output"]
+    for argv, message in ((["--grid", "3", "--every-step"], "choose one output"),
+                          (["--times", "0,1", "--grid", "3"], "choose one output"),
+                          (["--grid", "1"], "--grid: must be an integer >= 2")):
+        done = run_cli("simulate", "bouncing-ball", *argv, "--json", str(tmp_path / "x.json"))
+        assert done.returncode == 2 and message in done.stderr
+        assert not (tmp_path / "x.json").exists()
