@@ -440,3 +440,20 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
             break
     return status, t, y, f, h_abs, step_max, T[:count], Y[:count], count, next_time, steps, res_p, res_v
 
+
+
+@njit(cache=True)
+def evaluate(kern, S, T, Y, Z, R):
+    """The mode of S at the states ``(T[k], Y[k])`` (samples of a run): ``Z[k]`` the flat
+    outputs, ``R[k]`` the solution ``[q''; -lambda]`` of the saddle-point system; the returned
+    flags say where it is regular (elsewhere ``Z[k]``, ``R[k]`` are left as they are)."""
+    s = S[15][0] + S[15][1]
+    dy = np.empty(Y.shape[1])
+    ok = np.zeros(T.shape[0], dtype=np.bool_)
+    for k in range(T.shape[0]):
+        if rhs(kern, S, T[k], Y[k], dy):
+            Z[k, :] = S[1]
+            for i in range(s):
+                R[k, i] = S[3][i]
+            ok[k] = True
+    return ok

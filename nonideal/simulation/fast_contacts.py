@@ -35,6 +35,7 @@ import time
 
 import numpy as np
 
+from ..modes.motion import Motion
 from ..modes.types import SEPARATED, SLIDE, STICK, Mode
 from .events import ContactTouch, Jam, Lift, SlipStart, SlipStop
 from .fast import NATIVE_CHUNK, NATIVE_STEPS, deferred_signals
@@ -99,20 +100,9 @@ class FastContacts:
         self.handbacks = 0
 
     def _eligible(self, mode: Mode, events, drift, watched) -> bool:
-        sim = self.sim
-        solver = sim.solver
-        if (sim.method != "DOP853" or not solver.route.saddle_point or solver.charts is not None
-                or sim.control_rows or solver.unilateral or watched or drift[0] or drift[1]
-                or solver.ck.torques or not sim.track):
+        if self.sim.method != "DOP853" or watched or drift[0] or drift[1]:
             return False
-        if any(cs.state not in (SEPARATED, STICK, SLIDE) for _, cs in mode.contacts):
-            return False
-        if any(type(ev) not in _KINDS for ev in events):
-            return False
-        system = solver.system(mode)
-        if system.blocks is not None or (system.m and system.dependence is not False):
-            return False
-        return True
+        return all(type(ev) in _KINDS for ev in events) and self._solvable(mode)
 
     def ready(self, mode: Mode, events, armed, drift, watched) -> bool:
         """Whether the next steps of this phase go native (called before each step)."""
@@ -129,6 +119,49 @@ class FastContacts:
         if key in self._failed or not all(armed) or not self._eligible(mode, events, drift, watched):
             return False
         return bool(self.native)
+
+    def sample_motions(self, mode: Mode, T: np.ndarray, Y: np.ndarray):
+        """The motions of *mode* at the samples ``(T[k], Y[k])`` (a list, None where the system
+        is singular), solved natively in one call; None when this run took no native step (the
+        Python evaluation then, as for a run that never needed native code) or the mode's
+        system is not one the native code solves."""
+        nat = self._native
+        if not (nat and (self.option or self.native_steps)) or not self._solvable(mode):
+            return None
+        sim = self.sim
+        solver = sim.solver
+        S, contacts = self._system_arrays(mode)
+        ref, hasref = S[12], S[13]
+        for k, c in enumerate(contacts):  # the references the Python evaluation reads
+            r = solver.reference.get(c)
+            hasref[k] = r is not None
+            if r is not None:
+                ref[k, :len(r)] = r
+        Z, R = np.zeros((len(T), nat.nz)), np.zeros((len(T), S[3].shape[0]))
+        with deferred_signals():
+            ok = nat.loop.evaluate(nat.kernel, S, np.asarray(T, dtype=float), np.asarray(Y, dtype=float), Z, R)
+        system, at = solver.system(mode), sim.kernel.dynamics.size
+        out = []
+        for k in range(len(T)):
+            if ok[k]:
+                motion = Motion.in_phase(solver, mode, system, float(T[k]), Y[k], R[k])
+                motion._kin = Z[k, at:]
+                out.append(motion)
+            else:
+                out.append(None)
+        return out
+
+    def _solvable(self, mode: Mode) -> bool:
+        """Whether the native code solves *mode*'s system (as :meth:`_eligible`, without what
+        concerns the steps: events, drift, watched rows)."""
+        sim, solver = self.sim, self.sim.solver
+        if (not solver.route.saddle_point or solver.charts is not None or sim.control_rows
+                or solver.unilateral or solver.ck.torques or not sim.track):
+            return False
+        if any(cs.state not in (SEPARATED, STICK, SLIDE) for _, cs in mode.contacts):
+            return False
+        system = solver.system(mode)
+        return system.blocks is None and not (system.m and system.dependence is not False)
 
     # ------------------------------------------------------------------ arrays
     def _system_arrays(self, mode: Mode):

@@ -156,7 +156,8 @@ class Trajectory:
         compiled observables over all samples."""
         kernel, solver = sim.kernel, sim.solver
         n = kernel.n
-        t, Y, qdd, labels, motions = _columns_of(samples, solver, n)
+        t, Y, qdd, labels, motions = _columns_of(samples, solver, n, sim.fast_contacts.sample_motions
+                                                 if sim.contacts else None)
         N = len(t)
         q, qd = Y[:, :n], Y[:, n:2 * n]
         rows = kernel.rows
@@ -403,21 +404,31 @@ class Trajectory:
                             index=pd.Index(np.asarray(self.t), name="t"))
 
 
-def _columns_of(samples, solver, n: int):
+def _columns_of(samples, solver, n: int, native=None):
     """``(t, Y, qdd, labels, motions)`` of the samples in order, *motions* the pairs (row,
-    motion) of the single samples (the motion evaluated where the simulation has none); the
-    blocks of a native phase as they are (no motion)."""
+    motion) of the single samples (the motion evaluated where the simulation has none: by
+    *native* ``(mode, T, Y) -> motions or None`` for all the samples of a mode at once where it
+    answers, else one by one); the blocks of a native phase as they are (no motion)."""
     from .budget import Block
 
+    found: dict = {}
+    if native is not None:
+        wanted: dict = {}
+        for i, s in enumerate(samples):
+            if not isinstance(s, Block) and s.motion is None:
+                wanted.setdefault(s.mode, []).append(i)
+        for mode, rows in wanted.items():
+            got = native(mode, [samples[i].t for i in rows], np.array([samples[i].y for i in rows], dtype=float))
+            found.update((i, m) for i, m in zip(rows, got or ()) if m is not None)
     ts, ys, qdds, labels, motions = [], [], [], [], []
-    for s in samples:
+    for i, s in enumerate(samples):
         if isinstance(s, Block):
             ts.append(s.t)
             ys.append(s.y)
             qdds.append(s.qdd)
             labels += [s.mode.label()] * len(s)
             continue
-        m = s.motion if s.motion is not None else solver.motion(s.t, s.y, s.mode)
+        m = s.motion if s.motion is not None else (found.get(i) or solver.motion(s.t, s.y, s.mode))
         ts.append([s.t])
         ys.append(np.asarray(s.y, dtype=float)[None])
         qdds.append(np.asarray(m.qdd, dtype=float).reshape(1, n))

@@ -114,3 +114,29 @@ def test_the_command_line_chooses_the_output(tmp_path):
         done = run_cli("simulate", "bouncing-ball", *argv, "--json", str(tmp_path / "x.json"))
         assert done.returncode == 2 and message in done.stderr
         assert not (tmp_path / "x.json").exists()
+
+
+def test_grid_samples_of_a_native_run_are_solved_natively_as_in_python(monkeypatch):
+    """The grid's samples of a run that went native are solved in one native call per mode;
+    their accelerations, multipliers and contact records are the Python evaluation's."""
+    pytest.importorskip("numba")
+    from nonideal.simulation.fast_contacts import FastContacts
+    from nonideal.simulation.hybrid import Simulation
+
+    model = sphere_on_plane(pull=0.3, spin=(3.0, 1.0))   # oblique slide, then roll
+    calls = []
+    original = FastContacts.sample_motions
+    monkeypatch.setattr(FastContacts, "sample_motions",
+                        lambda self, *a: calls.append(original(self, *a)) or calls[-1])
+    got = Simulation(model, native=True, specialize=False).run()
+    assert calls and all(c is not None for c in calls) and sum(len(c) for c in calls) >= 1000
+    monkeypatch.setattr(FastContacts, "sample_motions", lambda self, *a: None)
+    ref = Simulation(model, native=True, specialize=False).run()
+    assert np.array_equal(got.t, ref.t) and np.array_equal(got.q, ref.q)
+    assert np.allclose(got.qdd, ref.qdd, rtol=1e-12, atol=1e-12)
+    for key, value in ref.contacts["plane"].items():
+        if isinstance(value, np.ndarray) and value.dtype.kind == "f":
+            assert np.allclose(got.contacts["plane"][key], value, rtol=1e-12, atol=1e-12), key
+        else:
+            assert list(got.contacts["plane"][key]) == list(value), key
+    assert [e["type"] for e in got.events] == ["stick"]
