@@ -206,6 +206,8 @@ class PointRunner:
 
             end = t_end if t_end is not None else model.simulation.t_end
             times = np.linspace(model.t0, float(end), HEAT_SAMPLES) if end is not None else None
+        if times is None:   # the summary reads the final state, the events and the works
+            opts["grid"] = 2  # integrated with the motion: no samples between (their cost)
         traj = simulate(model, t_end=t_end, times=times, form=self.options.get("form", "lagrange1"),
                         parameters=values, initial=initial, **opts)
         summary = simulation_summary(traj)
