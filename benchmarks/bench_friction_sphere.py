@@ -20,7 +20,8 @@ angular momentum about the contact point, whatever the friction law).  Two start
 
 Measured, side by side in one process:
 
-1. **ours** -- ``nonideal.simulate(model, t_end=T, initial=...)`` (exact Coulomb friction,
+1. **ours** -- ``nonideal.simulate(model, t_end=T, initial=..., every_step=True)`` (every step
+   kept, as MuJoCo's rollout keeps each of its steps; the default output is a 1001-time grid) (exact Coulomb friction,
    slip-stop event located on the dense output): error of the event time and of the final
    velocity, angular velocity and position; wall time of a *warm* run (the model's kernels
    compiled, and the saddle-point systems of the two modes it integrates compiled too, which
@@ -276,12 +277,13 @@ def bench_ours(repeat: int, quick: bool) -> dict:
         exact = closed_form(case["v0"], case["w0"])
         init = initial_of(case)
         for _ in range(WARMUP):  # the kernels compiled, then the two mode systems
-            nonideal.simulate(model, t_end=T_END, initial=init)
-        med, best, times, traj = median_time(lambda: nonideal.simulate(model, t_end=T_END, initial=init), repeat)
+            nonideal.simulate(model, t_end=T_END, initial=init, every_step=True)
+        med, best, times, traj = median_time(lambda: nonideal.simulate(model, t_end=T_END, initial=init,
+                                                                       every_step=True), repeat)
         res = ours_measure(traj, exact)
         res.update(wall_median=med, wall_min=best, walls=times)
         med, best, _, ref = median_time(lambda: nonideal.simulate(model, t_end=T_END, initial=init,
-                                                                 specialize=False), repeat)
+                                                                 specialize=False, every_step=True), repeat)
         res.update(index_wall_median=med, index_wall_min=best,
                    index_agreement=float(np.max(np.abs(ref.qd[-1] - traj.qd[-1]))),
                    index_event_diff=abs(ours_measure(ref, exact)["t_event"] - res["t_event"]))
@@ -292,7 +294,7 @@ def bench_ours(repeat: int, quick: bool) -> dict:
     init = initial_of(case)
     for rtol in ((1e-10,) if quick else (1e-6, 1e-8, 1e-10, 1e-12)):
         atol = rtol * 1e-2
-        fn = lambda: nonideal.simulate(model, t_end=T_END, initial=init, rtol=rtol, atol=atol)  # noqa: E731
+        fn = lambda: nonideal.simulate(model, t_end=T_END, initial=init, rtol=rtol, atol=atol, every_step=True)  # noqa: E731
         fn()
         med, best, _, traj = median_time(fn, max(3, repeat // 2))
         res = ours_measure(traj, exact)

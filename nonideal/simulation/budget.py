@@ -281,8 +281,21 @@ def check_arguments(model, t_end, times, form, options: dict) -> None:
 
 
 def sample_dense(dense, t_old, t_new, times, next_time, mode, emit) -> int:
-    """Emit the requested *times* in ``[t_old, t_new]`` from the dense output; the index of
-    the next one."""
+    """Emit the requested *times* in ``[t_old, t_new]`` from the dense output (all of them in
+    one evaluation where the dense output takes an array of times, as SciPy's does); the index
+    of the next one."""
+    end = int(np.searchsorted(times, t_new, side="right"))
+    if end - next_time > 1:
+        ts = times[next_time:end]
+        ts = ts[ts >= t_old]
+        try:
+            Y = np.asarray(dense(ts)) if ts.size > 1 else None
+        except (TypeError, ValueError):
+            Y = None
+        if Y is not None and Y.ndim == 2 and Y.shape[1] == ts.size:
+            for k in range(ts.size):
+                emit(ts[k], Y[:, k], mode)
+            return end
     while next_time < times.size and times[next_time] <= t_new:
         if times[next_time] >= t_old:
             emit(times[next_time], dense(times[next_time]), mode)
