@@ -209,22 +209,63 @@ class Native:
         self.nz = kernel.dynamics.size
 
     def buffers(self, system, params: np.ndarray, track: bool):
-        """``(w, ix)``: the work array ``[x | z | K | r | B^T q']`` with the parameters in
-        place, and the index array ``[n, m, power, track, len(src), nx, nz, src, dst, rsrc]``
-        of the mode structure *system* (:class:`~nonideal.modes.system.ModeSystem`)."""
-        n, m, s = system.n, system.m, system.s
-        w = np.zeros(self.nx + self.nz + s * s + s + m)
-        w[1 + 2 * n:1 + 2 * n + len(params)] = params
-        power = system.power.start if system.power is not None else -1
-        head = np.array([n, m, power, int(track), len(system.src), self.nx, self.nz], dtype=np.int64)
-        ix = np.concatenate((head, system.src, system.dst, system.rsrc)).astype(np.int64)
-        return w, ix
+        """:func:`buffers` of this module's sizes."""
+        return buffers(self.nx, self.nz, system, params, track)
 
     def evaluate(self, x: np.ndarray) -> np.ndarray:
         """The kernel's flat output at *x* (zeros where the kernel compiles nothing)."""
         z = np.zeros(self.nz)
         self.integrator.evaluate(self.kernel, np.ascontiguousarray(x, dtype=float), z)
         return z
+
+
+def buffers(nx: int, nz: int, system, params: np.ndarray, track: bool):
+    """``(w, ix)``: the work array ``[x | z | K | r | B^T q']`` with the parameters in
+    place, and the index array ``[n, m, power, track, len(src), nx, nz, src, dst, rsrc]``
+    of the mode structure *system* (:class:`~nonideal.modes.system.ModeSystem`), for a
+    kernel of *nx* inputs and *nz* outputs."""
+    n, m, s = system.n, system.m, system.s
+    w = np.zeros(nx + nz + s * s + s + m)
+    w[1 + 2 * n:1 + 2 * n + len(params)] = params
+    power = system.power.start if system.power is not None else -1
+    head = np.array([n, m, power, int(track), len(system.src), nx, nz], dtype=np.int64)
+    ix = np.concatenate((head, system.src, system.dst, system.rsrc)).astype(np.int64)
+    return w, ix
+
+
+def numba_version() -> str | None:
+    """numba's version from its installed metadata, without importing it (0.3-0.5 s); None
+    when it is not installed."""
+    try:
+        from importlib.metadata import version
+
+        return version("numba")
+    except Exception:  # pragma: no cover - depends on the environment
+        return None
+
+
+def identity_of(kernel):
+    """``(key, source, nx, nz)`` of the native module of *kernel* -- the hash naming it (the
+    library's and numba's versions, its source, the generic loop's source), its source and
+    sizes -- computed without importing numba; None when numba is not installed or the kernel
+    is not written natively.  (A library compiled from the same module, found on disk, needs
+    no numba: :meth:`~nonideal.simulation.fast.FastPhases.c_loop`.)"""
+    def build():
+        version = numba_version()
+        if version is None or kernel.compact:  # many coordinates: the sparse solves of the NumPy path
+            return None
+        try:
+            source = module_source(kernel)
+        except NotNative:
+            return None
+        from .. import __version__
+
+        # the generic loop is linked into the module's wrapper: its source is part of the key
+        loop = Path(__file__).with_name("integrator.py").read_bytes()
+        key = hashlib.sha256(f"{__version__}\0{version}\0{source}".encode() + loop).hexdigest()
+        return key, source, len(kernel.symbols), kernel.dynamics.size
+
+    return kernel.model.cached("native identity", build)
 
 
 def _warm(module, kernel) -> None:
@@ -308,17 +349,11 @@ def native_of(kernel) -> Native | None:
     """The (cached) :class:`Native` module of *kernel*, or None when numba is not installed or
     the kernel uses a function the native code does not write."""
     def build():
-        if not available() or kernel.compact:   # many coordinates: the sparse solves of the NumPy path
+        ident = identity_of(kernel)
+        if ident is None or not available():
             return None
+        key, source = ident[:2]
         try:
-            import numba
-
-            source = module_source(kernel)
-            from .. import __version__
-
-            # the generic loop is linked into the module's wrapper: its source is part of the key
-            loop = Path(__file__).with_name("integrator.py").read_bytes()
-            key = hashlib.sha256(f"{__version__}\0{numba.__version__}\0{source}".encode() + loop).hexdigest()
             return Native(_load(source, key, kernel), kernel, key)
         except NotNative:
             return None

@@ -88,6 +88,16 @@ class FastPhases:
                     self._native = native_of(self.sim.kernel) or False
         return self._native
 
+    def _identity(self):
+        """The native module's ``(key, source, nx, nz)`` (:func:`~nonideal.numeric.native.
+        identity_of`: numba not imported), or None: not native (numba absent, the kernel not
+        written natively, or it did not compile)."""
+        if self.option is False or self._native is False:
+            return None
+        from ..numeric.native import identity_of
+
+        return identity_of(self.sim.kernel)
+
     def _system(self, mode: Mode):
         """The mode's system when the native right-hand side computes it, else None."""
         sim = self.sim
@@ -103,8 +113,10 @@ class FastPhases:
         <nonideal.numeric.native.Native.buffers>`), one pair per structure."""
         key = mode.structure
         if key not in self._buffers:
-            self._buffers[key] = self.native.buffers(self.sim.solver.system(mode), self.sim.params,
-                                                     self.sim.track)
+            from ..numeric.native import buffers
+
+            _, _, nx, nz = self._identity()
+            self._buffers[key] = buffers(nx, nz, self.sim.solver.system(mode), self.sim.params, self.sim.track)
         return self._buffers[key]
 
     def c_loop(self, mode: Mode, t: float, y: np.ndarray):
@@ -139,7 +151,9 @@ class FastPhases:
         repeats it nor compiles numba's wrapper for it (0.4 s): the outcome depends on the
         library alone, never on the run.  Where numba's solve fails at that state (a singular
         system), compared at *(t, y)*, the phase's start, and not recorded."""
-        marker = f"{loop.path}.{self.native.key[:16]}.agrees"
+        marker = f"{loop.path}.{self._identity()[0][:16]}.agrees"
+        if not os.path.exists(marker) and not self.native:
+            return False
         if os.path.exists(marker):
             return True
         generic = np.array([0.6180339887498949 * (k + 1) % 1.0 + 0.1 for k in range(y.size)])
@@ -207,8 +221,8 @@ class FastPhases:
                 return None
         elif not first:
             return None
-        if key in self._failed or self._system(mode) is None or not self.native:
-            return None
+        if key in self._failed or self._system(mode) is None or not self._identity():
+            return None  # (numba is loaded only when the phase needs it: not for a C loop known to agree)
         sim = self.sim
         if events or drift[0] or drift[1] or watched or sim.method != "DOP853" or sim.solver.charts is not None:
             if self.option:
@@ -223,10 +237,14 @@ class FastPhases:
         next_time, finished)``; not finished: the native step failed (a step too small or a
         singular system) at ``(t, y)``, where the SciPy path takes over and explains."""
         w, ix = self.buffers(mode)
-        nat, solver, n = self.native, self.sim.solver, self.sim.n
+        solver, n = self.sim.solver, self.sim.n
         plain = solver.system(mode).m == 0
         t, y, f, h_abs = float(ode.t), np.array(ode.y, dtype=float), np.array(ode.f, dtype=float), float(ode.h_abs)
         loop = self.c_loop(mode, t, y)
+        nat = self.native if loop is None else None
+        if loop is None and not nat:  # numba installed but the model did not compile
+            self._failed.add(mode.structure)
+            return t, y, next_time, False
         atol = np.broadcast_to(np.asarray(ode.atol, dtype=float), y.shape).copy()
         grid = np.asarray(times if times is not None else np.zeros(0), dtype=float)
         nt = next_time if times is not None else 0

@@ -256,8 +256,8 @@ def test_the_agreement_of_a_c_library_is_recorded_once(cache, monkeypatch):
     """The C right-hand side is compared with numba's once per library (at a fixed generic
     state, so the outcome does not depend on the run); a later process (here: the same model
     built afresh, the loaded modules forgotten) finds the record and neither compares again
-    nor calls numba's wrapper (by default, ``native=None``, it is not needed before the phase
-    goes native); the trajectory is the same bit for bit."""
+    nor loads the numba module (by default, ``native=None``, nothing else needs it); the
+    trajectory is the same bit for bit."""
     from nonideal.numeric import cloop
 
     kw = dict(t_end=60.0, rtol=1e-10, atol=1e-12)
@@ -278,4 +278,5 @@ def test_the_agreement_of_a_c_library_is_recorded_once(cache, monkeypatch):
     monkeypatch.setattr(cloop.Loop, "phase_arrays", lambda self, *a: calls.append(1) or phase(self, *a))
     second = simulate(model, **kw)
     assert calls and native_rhs == []
+    assert native._LOADED == {}  # the numba module not even loaded: the C library suffices
     assert np.array_equal(first.q, second.q) and np.array_equal(first.qdd, second.qdd)
