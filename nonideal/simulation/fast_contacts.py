@@ -42,9 +42,9 @@ from .fast import NATIVE_CHUNK, NATIVE_STEPS, deferred_signals
 
 __all__ = ["FastContacts", "COOLDOWN"]
 
-COOLDOWN = 4
+COOLDOWN = 1
 """Steps the hybrid loop takes after a native phase handed a step back before it tries native
-code again (doubled, up to 64, while the native code hands back within two steps)."""
+code again (doubled, up to 16, while the native code hands back within two steps)."""
 
 _KINDS = {ContactTouch: 0, Lift: 1, SlipStart: 2, SlipStop: 3, Jam: 4}
 
@@ -286,7 +286,7 @@ class FastContacts:
         if status in (4, 5):  # a step that may hold an event, or a step that collapsed (the hybrid
             # loop watches the collapse and names its cause): back for a while
             self.handbacks += 1
-            self._cooldown = min(64, 2 * self._cooldown) if taken < 2 else COOLDOWN
+            self._cooldown = min(16, 2 * self._cooldown) if taken < 2 else COOLDOWN
             self._wait = self._cooldown
             self._handed = mode
         elif status != 0:
