@@ -35,9 +35,9 @@ import time
 
 import numpy as np
 
-from ..modes.motion import Motion
 from ..modes.types import SEPARATED, SLIDE, STICK, Mode
 from .events import ContactTouch, Jam, Lift, SlipStart, SlipStop
+from .sample_batch import SampleBatch
 from .fast import NATIVE_CHUNK, NATIVE_STEPS, deferred_signals
 
 __all__ = ["FastContacts", "COOLDOWN"]
@@ -121,10 +121,11 @@ class FastContacts:
         return bool(self.native)
 
     def sample_motions(self, mode: Mode, T: np.ndarray, Y: np.ndarray):
-        """The motions of *mode* at the samples ``(T[k], Y[k])`` (a list, None where the system
-        is singular), solved natively in one call; None when this run took no native step (the
-        Python evaluation then, as for a run that never needed native code) or the mode's
-        system is not one the native code solves."""
+        """The motions of *mode* at the samples ``(T[k], Y[k])`` solved natively in one call
+        (a :class:`~nonideal.simulation.sample_batch.SampleBatch`; its ``ok`` false where the
+        system is singular); None when this run took no native step (the Python evaluation
+        then, as for a run that never needed native code) or the mode's system is not one the
+        native code solves."""
         nat = self._native
         if not (nat and (self.option or self.native_steps)) or not self._solvable(mode):
             return None
@@ -138,18 +139,10 @@ class FastContacts:
             if r is not None:
                 ref[k, :len(r)] = r
         Z, R = np.zeros((len(T), nat.nz)), np.zeros((len(T), S[3].shape[0]))
+        T, Y = np.asarray(T, dtype=float), np.asarray(Y, dtype=float)
         with deferred_signals():
-            ok = nat.loop.evaluate(nat.kernel, S, np.asarray(T, dtype=float), np.asarray(Y, dtype=float), Z, R)
-        system, at = solver.system(mode), sim.kernel.dynamics.size
-        out = []
-        for k in range(len(T)):
-            if ok[k]:
-                motion = Motion.in_phase(solver, mode, system, float(T[k]), Y[k], R[k])
-                motion._kin = Z[k, at:]
-                out.append(motion)
-            else:
-                out.append(None)
-        return out
+            ok = nat.loop.evaluate(nat.kernel, S, T, Y, Z, R)
+        return SampleBatch(solver, mode, solver.system(mode), T, Y, R, Z[:, sim.kernel.dynamics.size:], ok)
 
     def _solvable(self, mode: Mode) -> bool:
         """Whether the native code solves *mode*'s system (as :meth:`_eligible`, without what

@@ -156,15 +156,19 @@ class Trajectory:
         compiled observables over all samples."""
         kernel, solver = sim.kernel, sim.solver
         n = kernel.n
-        t, Y, qdd, labels, motions = _columns_of(samples, solver, n, sim.fast_contacts.sample_motions
-                                                 if sim.contacts else None)
+        t, Y, qdd, labels, motions, batched = _columns_of(samples, solver, n, sim.fast_contacts.sample_motions
+                                                          if sim.contacts else None)
         N = len(t)
         q, qd = Y[:, :n], Y[:, n:2 * n]
         rows = kernel.rows
         mult = {r.name: np.zeros(N) for r in rows}
         names = solver.ck.names if solver.ck else []
-        records: list[list] = [[] for _ in names]  # per contact: (mode, N, F, U, gap, mu_s) per sample
-        assert not names or len(motions) == N, "blocks of samples are for models without contacts"
+        dims = solver.ck.dims if names else []
+        # per contact: mode label, N, F, U, gap, mu_s at every sample
+        records = [([""] * N, np.zeros(N), np.zeros((N, d)), np.zeros((N, d)), np.zeros(N), np.zeros(N))
+                   for d in dims]
+        assert not names or len(motions) + sum(len(k) for k, _, _ in batched) == N, \
+            "blocks of samples are for models without contacts"
         res_p = res_v = 0.0
         X = np.empty((N, len(solver.x)))
         X[:] = solver.x
@@ -182,7 +186,25 @@ class Trajectory:
                 if vel:
                     res_v = max(res_v, float(np.abs(obs["vel"][k, vel]).max()))
             for c, rec in enumerate(records):
-                rec.append(m.contact_record(c))
+                for column, value in zip(rec, m.contact_record(c)):
+                    column[k] = value
+        for ks, batch, rs in batched:  # the samples solved natively, mode by mode, as arrays
+            system = batch.system
+            if system.row_col:
+                values = batch.values(rs)
+                for i, j in system.row_col.items():
+                    mult[rows[i].name][ks] = values[:, j]
+                pos, vel = system.drift_rows
+                if pos:
+                    res_p = max(res_p, float(np.abs(obs["pos"][np.ix_(ks, pos)]).max()))
+                if vel:
+                    res_v = max(res_v, float(np.abs(obs["vel"][np.ix_(ks, vel)]).max()))
+            for c, rec in enumerate(records):
+                label = batch.mode.contacts[c][1].label()
+                for k in ks.tolist():
+                    rec[0][k] = label
+                for column, value in zip(rec[1:], batch.contact_columns(c, rs)):
+                    column[ks] = value
         T, V = obs["T"], obs["V"]
         E = obs["T2"] - obs["T0"] + V
         works = Y[:, 2 * n:2 * n + 5] if Y.shape[1] > 2 * n else np.zeros((N, 5))
@@ -214,13 +236,10 @@ class Trajectory:
         if split:   # where the reactions are statically indeterminate: the rule, the ranges
             diag["indeterminate"] = split
         contacts = {}
-        for name, d, rec in zip(names, solver.ck.dims if names else [], records):
-            label, normal, friction, slip, gap, mu_s = zip(*rec) if rec else ((),) * 6
-            contacts[name] = {"normal": np.array(normal, dtype=float),
-                              "friction": np.array(friction, dtype=float).reshape(N, d).tolist(),
-                              "slip": np.array(slip, dtype=float).reshape(N, d).tolist(),
-                              "gap": np.array(gap, dtype=float), "mu_static": np.array(mu_s, dtype=float),
-                              "mode": list(label)}
+        for name, rec in zip(names, records):
+            label, normal, friction, slip, gap, mu_s = rec
+            contacts[name] = {"normal": normal, "friction": friction.tolist(), "slip": slip.tolist(),
+                              "gap": gap, "mu_static": mu_s, "mode": label}
         # the controls' works integrated with the motion (the states after the five works)
         integrated = {kernel.rows[i].name: Y[:, 2 * n + 5 + k]
                       for k, i in enumerate(getattr(sim, "control_rows", ()))
@@ -405,22 +424,25 @@ class Trajectory:
 
 
 def _columns_of(samples, solver, n: int, native=None):
-    """``(t, Y, qdd, labels, motions)`` of the samples in order, *motions* the pairs (row,
-    motion) of the single samples (the motion evaluated where the simulation has none: by
-    *native* ``(mode, T, Y) -> motions or None`` for all the samples of a mode at once where it
-    answers, else one by one); the blocks of a native phase as they are (no motion)."""
+    """``(t, Y, qdd, labels, motions, batched)`` of the samples in order: *motions* the pairs
+    (row, motion) of the single samples (the motion evaluated where the simulation has none);
+    the samples that have none and that *native* ``(mode, T, Y) -> SampleBatch or None``
+    solves, all those of a mode at once, in *batched* ``(rows, batch, rows in the batch)``;
+    the blocks of a native phase as they are (no motion)."""
     from .budget import Block
 
-    found: dict = {}
+    found: dict = {}  # sample index -> (batch, its row there)
     if native is not None:
         wanted: dict = {}
         for i, s in enumerate(samples):
             if not isinstance(s, Block) and s.motion is None:
                 wanted.setdefault(s.mode, []).append(i)
         for mode, rows in wanted.items():
-            got = native(mode, [samples[i].t for i in rows], np.array([samples[i].y for i in rows], dtype=float))
-            found.update((i, m) for i, m in zip(rows, got or ()) if m is not None)
+            batch = native(mode, [samples[i].t for i in rows], np.array([samples[i].y for i in rows], dtype=float))
+            if batch is not None:
+                found.update((i, (batch, r)) for r, i in enumerate(rows) if batch.ok[r])
     ts, ys, qdds, labels, motions = [], [], [], [], []
+    groups: dict = {}  # id(batch) -> (batch, rows in the trajectory, rows in the batch)
     for i, s in enumerate(samples):
         if isinstance(s, Block):
             ts.append(s.t)
@@ -428,15 +450,23 @@ def _columns_of(samples, solver, n: int, native=None):
             qdds.append(s.qdd)
             labels += [s.mode.label()] * len(s)
             continue
-        m = s.motion if s.motion is not None else (found.get(i) or solver.motion(s.t, s.y, s.mode))
         ts.append([s.t])
         ys.append(np.asarray(s.y, dtype=float)[None])
-        qdds.append(np.asarray(m.qdd, dtype=float).reshape(1, n))
-        motions.append((len(labels), m))
+        if i in found:
+            batch, r = found[i]
+            qdds.append(batch.R[r:r + 1, :n])
+            entry = groups.setdefault(id(batch), (batch, [], []))
+            entry[1].append(len(labels))
+            entry[2].append(r)
+        else:
+            m = s.motion if s.motion is not None else solver.motion(s.t, s.y, s.mode)
+            qdds.append(np.asarray(m.qdd, dtype=float).reshape(1, n))
+            motions.append((len(labels), m))
         labels.append(s.mode.label())
+    batched = [(np.array(ks, dtype=np.intp), batch, np.array(rs, dtype=np.intp)) for batch, ks, rs in groups.values()]
     if not ts:
-        return np.zeros(0), np.zeros((0, 2 * n)), np.zeros((0, n)), [], []
-    return np.concatenate(ts).astype(float), np.concatenate(ys), np.concatenate(qdds), labels, motions
+        return np.zeros(0), np.zeros((0, 2 * n)), np.zeros((0, n)), [], [], []
+    return np.concatenate(ts).astype(float), np.concatenate(ys), np.concatenate(qdds), labels, motions, batched
 
 
 def _speeds_and_outputs(model, params, t, q, qd, mult):
