@@ -28,6 +28,8 @@ from __future__ import annotations
 
 import numbers
 import time
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -35,8 +37,8 @@ from ..equations.formalisms import FORMS
 from ..errors import ModelError, short_repr
 from ..modeling.arguments import real_number, require_form, require_mapping, require_model, sample_times
 
-__all__ = ["MAX_SAMPLES", "MAX_TIMES", "MAX_STEPS", "PROBE_STEPS", "MAX_SECONDS", "PROBE_SECONDS", "Block", "SampleBuffer", "StepBudget",
-           "check_times", "check_arguments", "sample_dense", "GRID", "output_times"]
+__all__ = ["Sample", "MAX_SAMPLES", "MAX_TIMES", "MAX_STEPS", "PROBE_STEPS", "MAX_SECONDS", "PROBE_SECONDS", "Block", "SampleBuffer", "StepBudget",
+           "check_times", "check_arguments", "sample_dense", "GRID", "output_times", "emitter"]
 
 MAX_SAMPLES = 5_000
 """Step samples kept by default (events and requested times come on top): a long run's
@@ -56,6 +58,27 @@ MAX_SECONDS = 600.0
 """Processor time a run may need (extrapolated from its progress) before it is refused."""
 PROBE_SECONDS = 1.0
 """Processor time a run takes before its total is extrapolated (read every 64 steps)."""
+
+
+def emitter(samples: "SampleBuffer", support):
+    """The run's ``emit(t, y, mode, motion=None, step=False)``: one sample into *samples*
+    (*support*: the watch of the support points, :class:`~nonideal.modeling.shapes.watch.
+    SupportWatch`, checked at each); ``emit.many(T, Y, mode, QDD, step)`` the samples of a
+    native phase in a mode without rows or contacts, ``emit.rows(T, Y, mode, step)`` samples of
+    one mode whose motion is still to be solved -- each as one :class:`Block`."""
+    def emit(t, yy, md, motion=None, step=False):
+        support.check(t, yy)
+        samples.add(Sample(float(t), np.array(yy, dtype=float), md, motion), step)
+
+    def rows(T, Y, md, step=False):
+        if support.watched:
+            for k in range(len(T)):
+                support.check(T[k], Y[k])
+        samples.add_block(Block(np.array(T, dtype=float), np.array(Y, dtype=float), None, md), step)
+
+    emit.many = lambda T, Y, md, QDD, step=False: samples.add_block(Block(T, Y, QDD, md), step)
+    emit.rows = rows
+    return emit
 
 
 def output_times(model, times, t_end, every_step: bool, grid: int):
@@ -94,10 +117,23 @@ def check_times(times: np.ndarray) -> None:
                          "(every one is kept in memory): sample more coarsely or split the run")
 
 
+@dataclass(frozen=True)
+class Sample:
+    """One sample of a run: time, state, mode, and the Motion at the state when the simulation
+    already has it."""
+
+    t: float
+    y: np.ndarray
+    mode: Any
+    motion: Any = None
+
+
 class Block:
-    """The samples of one native phase in a mode without rows or contacts, as arrays: times
-    *t*, states *y* (one row each) and accelerations *qdd* (the motion is the derivative's;
-    no :class:`~nonideal.modes.motion.Motion` per sample)."""
+    """Samples of one mode as arrays: times *t*, states *y* (one row each) and accelerations
+    *qdd* -- a native phase in a mode without rows or contacts (the motion is the
+    derivative's; no :class:`~nonideal.modes.motion.Motion` per sample) -- or ``qdd=None``:
+    samples whose motion is still to be solved (the output grid's, a native contact phase's
+    steps), all at once when the trajectory is assembled."""
 
     __slots__ = ("t", "y", "qdd", "mode")
 
@@ -108,7 +144,7 @@ class Block:
         return len(self.t)
 
     def rows(self, keep) -> "Block":
-        return Block(self.t[keep], self.y[keep], self.qdd[keep], self.mode)
+        return Block(self.t[keep], self.y[keep], None if self.qdd is None else self.qdd[keep], self.mode)
 
 
 class SampleBuffer(list):
@@ -282,10 +318,10 @@ def check_arguments(model, t_end, times, form, options: dict) -> None:
 
 def sample_dense(dense, t_old, t_new, times, next_time, mode, emit) -> int:
     """Emit the requested *times* in ``[t_old, t_new]`` from the dense output (all of them in
-    one evaluation where the dense output takes an array of times, as SciPy's does); the index
-    of the next one."""
+    one evaluation and one block where the dense output takes an array of times, as SciPy's
+    does); the index of the next one."""
     end = int(np.searchsorted(times, t_new, side="right"))
-    if end - next_time > 1:
+    if end - next_time > 1 and hasattr(emit, "rows"):
         ts = times[next_time:end]
         ts = ts[ts >= t_old]
         try:
@@ -293,8 +329,7 @@ def sample_dense(dense, t_old, t_new, times, next_time, mode, emit) -> int:
         except (TypeError, ValueError):
             Y = None
         if Y is not None and Y.ndim == 2 and Y.shape[1] == ts.size:
-            for k in range(ts.size):
-                emit(ts[k], Y[:, k], mode)
+            emit.rows(ts, Y.T, mode)
             return end
     while next_time < times.size and times[next_time] <= t_new:
         if times[next_time] >= t_old:

@@ -268,9 +268,8 @@ class FastPhases:
                 QDD = DY[:, n:2 * n]
                 for k, tk in enumerate(T.tolist()):
                     emit(tk, Y[k], mode, Motion.in_phase(solver, mode, system, tk, Y[k], QDD[k]), step)
-            else:
-                for k, tk in enumerate(T.tolist()):
-                    emit(tk, Y[k], mode, None, step)
+            else:  # the multipliers solved when the trajectory is assembled
+                emit.rows(T, Y, mode, step)
             budget.advance(t, steps)
             if status != 1:
                 break

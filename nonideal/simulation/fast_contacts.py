@@ -267,8 +267,7 @@ class FastContacts:
                     tiny + 4e-16 * abs(t_end))
             if first:
                 budget.start += time.thread_time() - spent
-            for k in range(count):
-                emit(T[k], Y[k], mode, None, times is None)
+            emit.rows(T[:count], Y[:count], mode, times is None)
             taken += steps
             budget.advance(t, steps)
             residual_max["position"] = max(residual_max["position"], res_p)

@@ -36,7 +36,7 @@ from ..modes.solver import ModeSolver
 from ..numeric.kernel import kernel_of, max_abs, parameter_vector
 from ..modes.switching import impact, select_mode
 from ..modes.validation import validate_state
-from .budget import GRID, MAX_SAMPLES, Block, SampleBuffer, StepBudget, check_arguments, output_times, sample_dense
+from .budget import GRID, MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, emitter, output_times, sample_dense
 from .slipstall import SLIP_LEVEL
 from .guards import ARREST_STEPS, GuardRates, Step, arrest, event_hits, with_step_limit
 from .singular import BRANCHES, JUMP_FROM, MassGuard, Regularity, explain_stall, singular_level
@@ -46,7 +46,7 @@ from .rhs import phase_rhs
 from .fast import FastPhases
 from .fast_contacts import FastContacts
 from .projection import project_mode
-from .trajectory import Sample, Trajectory
+from .trajectory import Trajectory
 from .zeno import Accumulation, ImpactSeries
 
 __all__ = ["simulate", "Simulation"]
@@ -335,10 +335,7 @@ class Simulation:
 
         support = SupportWatch(self.model, self.params)  # each support point unique along the motion
 
-        def emit(t, yy, md, motion=None, step=False):
-            support.check(t, yy)
-            samples.add(Sample(float(t), np.array(yy, dtype=float), md, motion), step)
-        emit.many = lambda T, Y, md, QDD, step=False: samples.add_block(Block(T, Y, QDD, md), step)  # (no contacts)
+        emit = emitter(samples, support)
 
         # the state at the start of a phase is sampled at the top of the loop, with its motion
         pending = times is None or bool(times.size and abs(times[0] - t0) <= 1e-14 * max(1, abs(t0)))

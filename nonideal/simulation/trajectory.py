@@ -21,6 +21,8 @@ from typing import Any
 import numpy as np
 from scipy.integrate import cumulative_simpson
 
+from .budget import Block, Sample
+
 __all__ = ["Sample", "Trajectory", "Columns"]
 
 
@@ -66,14 +68,6 @@ class Columns(np.ndarray):
 
     def __reduce__(self):  # pickled as a plain array with its names
         return (Columns.named, (np.asarray(self), self.names))
-
-
-@dataclass(frozen=True)
-class Sample:
-    t: float
-    y: np.ndarray
-    mode: Any
-    motion: Any = None  # the Motion at this state, when the simulation already has it
 
 
 @dataclass(frozen=True, eq=False)
@@ -425,48 +419,52 @@ class Trajectory:
 
 def _columns_of(samples, solver, n: int, native=None):
     """``(t, Y, qdd, labels, motions, batched)`` of the samples in order: *motions* the pairs
-    (row, motion) of the single samples (the motion evaluated where the simulation has none);
-    the samples that have none and that *native* ``(mode, T, Y) -> SampleBatch or None``
-    solves, all those of a mode at once, in *batched* ``(rows, batch, rows in the batch)``;
-    the blocks of a native phase as they are (no motion)."""
-    from .budget import Block
-
-    found: dict = {}  # sample index -> (batch, its row there)
-    if native is not None:
-        wanted: dict = {}
-        for i, s in enumerate(samples):
-            if not isinstance(s, Block) and s.motion is None:
-                wanted.setdefault(s.mode, []).append(i)
-        for mode, rows in wanted.items():
-            batch = native(mode, [samples[i].t for i in rows], np.array([samples[i].y for i in rows], dtype=float))
-            if batch is not None:
-                found.update((i, (batch, r)) for r, i in enumerate(rows) if batch.ok[r])
-    ts, ys, qdds, labels, motions = [], [], [], [], []
-    groups: dict = {}  # id(batch) -> (batch, rows in the trajectory, rows in the batch)
-    for i, s in enumerate(samples):
-        if isinstance(s, Block):
-            ts.append(s.t)
-            ys.append(s.y)
-            qdds.append(s.qdd)
-            labels += [s.mode.label()] * len(s)
-            continue
-        ts.append([s.t])
-        ys.append(np.asarray(s.y, dtype=float)[None])
-        if i in found:
-            batch, r = found[i]
-            qdds.append(batch.R[r:r + 1, :n])
-            entry = groups.setdefault(id(batch), (batch, [], []))
-            entry[1].append(len(labels))
-            entry[2].append(r)
-        else:
-            m = s.motion if s.motion is not None else solver.motion(s.t, s.y, s.mode)
-            qdds.append(np.asarray(m.qdd, dtype=float).reshape(1, n))
-            motions.append((len(labels), m))
-        labels.append(s.mode.label())
-    batched = [(np.array(ks, dtype=np.intp), batch, np.array(rs, dtype=np.intp)) for batch, ks, rs in groups.values()]
-    if not ts:
+    (row, motion) of the samples with a motion (the simulation's own, else evaluated one by
+    one); the samples without one that *native* ``(mode, T, Y) -> SampleBatch or None`` solves,
+    all those of a mode at once, in *batched* ``(rows, batch, rows in the batch)``; the blocks
+    of a native phase in a mode without rows or contacts as they are (their accelerations)."""
+    sizes = [len(s) if isinstance(s, Block) else 1 for s in samples]
+    N = sum(sizes)
+    if not N:
         return np.zeros(0), np.zeros((0, 2 * n)), np.zeros((0, n)), [], [], []
-    return np.concatenate(ts).astype(float), np.concatenate(ys), np.concatenate(qdds), labels, motions, batched
+    first = samples[0]
+    t, qdd = np.empty(N), np.empty((N, n))
+    Y = np.empty((N, (first.y.shape[1] if isinstance(first, Block) else len(first.y))))
+    labels: list[str] = []
+    motions, unsolved = [], {}  # mode -> rows without a motion
+    k = 0
+    for s, size in zip(samples, sizes):
+        if isinstance(s, Block):
+            t[k:k + size], Y[k:k + size] = s.t, s.y
+            if s.qdd is not None:
+                qdd[k:k + size] = s.qdd
+            else:
+                unsolved.setdefault(s.mode, []).extend(range(k, k + size))
+            labels += [s.mode.label()] * size
+        else:
+            t[k], Y[k] = s.t, s.y
+            if s.motion is not None:
+                motions.append((k, s.motion))
+            else:
+                unsolved.setdefault(s.mode, []).append(k)
+            labels.append(s.mode.label())
+        k += size
+    batched = []
+    for mode, rows in unsolved.items():
+        ks = np.array(rows, dtype=np.intp)
+        batch = native(mode, t[ks], Y[ks]) if native is not None else None
+        ok = batch.ok if batch is not None else np.zeros(len(ks), dtype=bool)
+        if ok.any():
+            rs = np.flatnonzero(ok)
+            batched.append((ks[rs], batch, rs))
+        for k in ks[~ok].tolist():
+            motions.append((k, solver.motion(float(t[k]), Y[k], mode)))
+    motions.sort(key=lambda pair: pair[0])
+    for k, m in motions:
+        qdd[k] = m.qdd
+    for ks, batch, rs in batched:
+        qdd[ks] = batch.qdd(rs)
+    return t, Y, qdd, labels, motions, batched
 
 
 def _speeds_and_outputs(model, params, t, q, qd, mult):
