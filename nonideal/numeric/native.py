@@ -196,10 +196,8 @@ class Native:
     loop of :mod:`nonideal.numeric.integrator`: :meth:`buffers` for a mode structure, and
     ``rhs``, ``phase``, ``evaluate`` of that module."""
 
-    def __init__(self, module, kernel, key: str = ""):
+    def __init__(self, module, kernel):
         from . import integrator
-
-        self.key = key  # the hash naming the module: its source, the loop's, the versions
 
         self.kernel = module.kernel
         self.rhs = module.rhs
@@ -354,7 +352,7 @@ def native_of(kernel) -> Native | None:
             return None
         key, source = ident[:2]
         try:
-            return Native(_load(source, key, kernel), kernel, key)
+            return Native(_load(source, key, kernel), kernel)
         except NotNative:
             return None
 

@@ -105,6 +105,9 @@ def output_times(model, times, t_end, every_step: bool, grid: int):
         t_end = float(times[-1])
     if times is not None or every_step:
         return times, t_end, False
+    if isinstance(grid, bool) or not isinstance(grid, numbers.Integral) or not 2 <= grid <= MAX_TIMES:
+        raise ModelError(f"grid: must be an integer from 2 to {MAX_TIMES}, the output's uniform "
+                         f"sample times (got {grid!r})")
     grid = np.linspace(t0, t_end, grid)
     grid[-1] = t_end
     return grid, t_end, True

@@ -152,10 +152,10 @@ class FastPhases:
         library alone, never on the run.  Where numba's solve fails at that state (a singular
         system), compared at *(t, y)*, the phase's start, and not recorded."""
         marker = f"{loop.path}.{self._identity()[0][:16]}.agrees"
-        if not os.path.exists(marker) and not self.native:
-            return False
         if os.path.exists(marker):
             return True
+        if not self.native:  # (numba installed, but the model did not compile)
+            return False
         generic = np.array([0.6180339887498949 * (k + 1) % 1.0 + 0.1 for k in range(y.size)])
         for tc, yc, record in ((0.6180339887498949, generic, True), (t, y, False)):
             want = np.empty(y.size)

@@ -100,6 +100,13 @@ def test_the_api_checks_the_output_options(options, message):
         simulate(gallery.load("bouncing-ball"), **options)
 
 
+def test_a_simulation_object_checks_its_grid():
+    from nonideal.simulation.hybrid import Simulation
+
+    with pytest.raises(ModelError, match="grid: must be an integer from 2"):
+        Simulation(gallery.load("bouncing-ball"), grid=1).run(t_end=0.1)
+
+
 def test_the_command_line_chooses_the_output(tmp_path):
     out = tmp_path / "o.json"
     done = run_cli("simulate", "bouncing-ball", "--t-end", "0.4", "--grid", "5", "--json", str(out))
