@@ -24,7 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..numeric.consistency import initial_branch
-from ..numeric.contact_kernel import SLIP_FLOOR, contact_kernel_of
+from ..numeric.contact_kernel import SLIP_FLOOR, SLIP_LEVEL, contact_kernel_of
 from ..modeling.contacts import Coulomb, CoulombContensou, LinearizedCoulomb, RegularizedCoulomb
 from ..numeric.contensou import contensou_shape
 from ..equations.dynamics import dynamics_of
@@ -202,7 +202,7 @@ class ModeSolver:
         """Record the slip direction of every two-component sliding contact at the state of
         *motion* (a :class:`~nonideal.modes.motion.Motion`; the simulation calls this at the
         start of each step).  At the *start* of a phase, a slip below the switching tolerance
-        (``1e-8 (1 + max |q'|)``) is the residue of a stop, not a direction: the mode's own
+        (``SLIP_LEVEL (1 + max |q'|)``) is the residue of a stop, not a direction: the mode's own
         sliding direction is the reference (the residue may point the other way, and friction
         oriented by it would push the new slide on)."""
         previous, self.reference = ({} if start else self.reference), {}
@@ -211,7 +211,7 @@ class ModeSolver:
                 U = motion.slip(c)
                 nrm = math.sqrt(U @ U)
                 speeds = 1.0 + max_abs(motion.qd)
-                if start and len(cs.direction) == len(U) and nrm <= 1e-8 * speeds:
+                if start and len(cs.direction) == len(U) and nrm <= SLIP_LEVEL * speeds:
                     self.reference[c] = np.array(cs.direction, dtype=float)
                 elif nrm > SLIP_FLOOR * speeds:
                     self.reference[c] = U / nrm

@@ -21,7 +21,7 @@ from ..modeling.contacts import IdealRolling
 from ..modeling.model import Model
 from .kernel import Compiled
 
-__all__ = ["ContactKernel", "contact_kernel_of", "SLIP_FLOOR"]
+__all__ = ["ContactKernel", "contact_kernel_of", "SLIP_FLOOR", "SLIP_LEVEL"]
 
 SLIP_FLOOR = 1e-9
 """A two-component slip below this fraction of the speeds (``1 + max |q'|``; the cheap bound
@@ -32,6 +32,10 @@ slip's rounding or the residue of a stop (1e-10 of the speeds), whose direction 
 one evaluation to the next.  Near a stop the friction is thus constant over the last
 ``SLIP_FLOOR`` of the slip, which passes through zero smoothly (its stop located as any
 event); after an onset it acts along the onset's direction until the slip has grown."""
+SLIP_LEVEL = 1e-8
+"""A slip below this fraction of the speeds (``1 + max |q'|``) counts as vanishing: the
+switching tolerance of a slip (a phase that starts there takes its mode's direction as the
+slip's reference; a stop the steps cannot reach is taken there)."""
 
 
 class ContactKernel:

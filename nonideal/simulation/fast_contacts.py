@@ -131,13 +131,7 @@ class FastContacts:
             return None
         sim = self.sim
         solver = sim.solver
-        S, contacts = self._system_arrays(mode)
-        ref, hasref = S[12], S[13]
-        for k, c in enumerate(contacts):  # the references the Python evaluation reads
-            r = solver.reference.get(c)
-            hasref[k] = r is not None
-            if r is not None:
-                ref[k, :len(r)] = r
+        S = self._with_references(mode)  # (those the Python evaluation reads)
         Z, R = np.zeros((len(T), nat.nz)), np.zeros((len(T), S[3].shape[0]))
         T, Y = np.asarray(T, dtype=float), np.asarray(Y, dtype=float)
         with deferred_signals():
@@ -157,6 +151,17 @@ class FastContacts:
         return system.blocks is None and not (system.m and system.dependence is not False)
 
     # ------------------------------------------------------------------ arrays
+    def _with_references(self, mode: Mode):
+        """The system arrays of *mode* with the solver's slip references in place."""
+        S, contacts = self._system_arrays(mode)
+        ref, hasref = S[12], S[13]
+        for k, c in enumerate(contacts):
+            r = self.sim.solver.reference.get(c)
+            hasref[k] = r is not None
+            if r is not None:
+                ref[k, :len(r)] = r
+        return S
+
     def _system_arrays(self, mode: Mode):
         key = mode
         if key not in self._arrays:
@@ -240,12 +245,7 @@ class FastContacts:
         if E is None:
             self._failed.add(mode.structure)
             return float(ode.t), ode.y, float(ode.h_abs), next_time
-        ref, hasref = S[12], S[13]
-        for k, c in enumerate(contacts):
-            r = self.sim.solver.reference.get(c)
-            hasref[k] = r is not None
-            if r is not None:
-                ref[k, :len(r)] = r
+        self._with_references(mode)
         nat = self.native
         t, y, f, h_abs = float(ode.t), np.array(ode.y, dtype=float), np.array(ode.f, dtype=float), float(ode.h_abs)
         atol = np.broadcast_to(np.asarray(ode.atol, dtype=float), y.shape).copy()

@@ -33,11 +33,11 @@ from ..modeling.shapes.watch import SupportWatch
 from ..modes.motion import Motion
 from ..modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
 from ..modes.solver import ModeSolver
+from ..numeric.contact_kernel import SLIP_LEVEL
 from ..numeric.kernel import kernel_of, max_abs, parameter_vector
 from ..modes.switching import impact, select_mode
 from ..modes.validation import validate_state
 from .budget import GRID, MAX_SAMPLES, SampleBuffer, StepBudget, check_arguments, emitter, output_times, sample_dense
-from .slipstall import SLIP_LEVEL
 from .guards import ARREST_STEPS, GuardRates, Step, arrest, event_hits, with_step_limit
 from .singular import BRANCHES, JUMP_FROM, MassGuard, Regularity, explain_stall, singular_level
 from .extended import reduce

@@ -19,13 +19,10 @@ import numpy as np
 from ..errors import IntegrationFailed
 from ..modes.motion import Motion
 from ..modes.types import SLIDE
+from ..numeric.contact_kernel import SLIP_LEVEL
 from ..numeric.kernel import max_abs
 
-__all__ = ["SLIP_LEVEL", "slip_stall"]
-
-SLIP_LEVEL = 1e-8
-"""A slip below this fraction of the speeds (``1 + max |q'|``) counts as vanishing."""
-
+__all__ = ["slip_stall"]
 
 def slip_stall(sim, ode, mode) -> None:
     """Raise :class:`~nonideal.errors.IntegrationFailed` naming the sliding contact of *mode*
