@@ -225,14 +225,15 @@ def _references(S, y, z):
 
 @njit(cache=True)
 def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_max, floor,
-          times, next_time, max_steps, tiny):
+          times, next_time, max_steps, tiny, run, run_max):
     """DOP853 from (t, y, f = y'(t)) towards t_end, the next step h_abs (at most step_max, the
     force guards' limit; max_step the run's), while no event can happen (module docstring).
 
-    Returns (status, t, y, f, h_abs, step_max, T, Y, count, next_time, steps, res_p, res_v):
-    status 0 reached t_end, 1 max_steps taken, 2 step too small, 3 singular system, 4 a step
-    shorter than tiny taken, 5 the next step (h_abs) may hold an event: (t, y, f) is the
-    state before it.  Samples: every accepted step (times empty) or the dense output at the
+    Returns (status, t, y, f, h_abs, step_max, T, Y, count, next_time, steps, res_p, res_v,
+    run): status 0 reached t_end, 1 max_steps taken, 2 step too small, 3 singular system, 4
+    run_max steps in a row shorter than tiny taken (run of them before the phase, run at its
+    end: the hybrid loop's count, which locates a slip's arrest after ARREST_STEPS of them),
+    5 the next step (h_abs) may hold an event: (t, y, f) is the state before it.  Samples: every accepted step (times empty) or the dense output at the
     requested times; res_p, res_v the largest residuals of the contacts at the steps."""
     ny = y.shape[0]
     hdr = S[15]
@@ -271,12 +272,12 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
     gs = np.empty((PROBES + 4, ne))
     # the guards and rates at the start
     if not rhs(kern, S, t, y, dy):
-        return 3, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v
+        return 3, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run
     guards(S, E, ga, sa)
     _rates(kern, S, E, t, y, dy, ga, sa, h_last, ra, ca, knowna)
     for k in range(ne):
         if not ga[k] > evf[k, 1]:  # not armed: the hybrid loop watches it
-            return 5, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v
+            return 5, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run
     while t < t_end:
         if steps >= max_steps:
             status = 1
@@ -435,10 +436,11 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
         y = y_new
         f = f_new
         h_abs = h_next
-        if h < tiny and t < t_end:
+        run = run + 1 if h < tiny else 0
+        if run >= run_max and t < t_end:
             status = 4
             break
-    return status, t, y, f, h_abs, step_max, T[:count], Y[:count], count, next_time, steps, res_p, res_v
+    return status, t, y, f, h_abs, step_max, T[:count], Y[:count], count, next_time, steps, res_p, res_v, run
 
 
 

@@ -39,6 +39,7 @@ from ..modes.types import SEPARATED, SLIDE, STICK, Mode
 from .events import ContactTouch, Jam, Lift, SlipStart, SlipStop
 from .sample_batch import SampleBatch
 from .fast import NATIVE_CHUNK, NATIVE_STEPS, deferred_signals
+from .guards import ARREST_STEPS
 
 __all__ = ["FastContacts", "COOLDOWN"]
 
@@ -235,16 +236,20 @@ class FastContacts:
 
     # ------------------------------------------------------------------ run
     def run(self, mode: Mode, ode, events, tols, t_end: float, h_last, times, next_time: int, emit,
-            budget, residual_max, floor: float):
+            budget, residual_max, floor: float, tiny_run: int = 0):
         """Integrate natively from the SciPy solver's state (module docstring).  Returns
-        ``(t, y, h, next_time)``: where the hybrid loop goes on, with the step to take next."""
+        ``(t, y, h, next_time, tiny_run)``: where the hybrid loop goes on, with the step to take
+        next, and its count of steps in a row shorter than 1e-9 of the span (*tiny_run* before):
+        the native code takes such steps, a slip's onset, and hands back when they are
+        :data:`~nonideal.simulation.guards.ARREST_STEPS` - 1 in a row (the next may locate a
+        slip's arrest)."""
         budget.start += self.loading  # a compilation is no part of the run's time
         self.loading = 0.0
         S, contacts = self._system_arrays(mode)
         E = self._event_arrays(mode, events, tols, contacts)
         if E is None:
             self._failed.add(mode.structure)
-            return float(ode.t), ode.y, float(ode.h_abs), next_time
+            return float(ode.t), ode.y, float(ode.h_abs), next_time, tiny_run
         self._with_references(mode)
         nat = self.native
         t, y, f, h_abs = float(ode.t), np.array(ode.y, dtype=float), np.array(ode.f, dtype=float), float(ode.h_abs)
@@ -261,10 +266,10 @@ class FastContacts:
             first = not nat.loop.phase.signatures
             spent = time.thread_time()
             with deferred_signals():
-                (status, t, y, f, h_abs, step_max, T, Y, count, nt, steps, res_p, res_v) = nat.loop.phase(
+                (status, t, y, f, h_abs, step_max, T, Y, count, nt, steps, res_p, res_v, tiny_run) = nat.loop.phase(
                     nat.kernel, S, E, t, y, f, h_abs, span, float(t_end), float(ode.rtol), atol,
                     float(self.sim.max_step), step_max, float(floor), grid, nt, NATIVE_CHUNK,
-                    tiny + 4e-16 * abs(t_end))
+                    tiny + 4e-16 * abs(t_end), tiny_run, ARREST_STEPS - 1)
             if first:
                 budget.start += time.thread_time() - spent
             emit.rows(T[:count], Y[:count], mode, times is None)
@@ -275,12 +280,12 @@ class FastContacts:
             if status != 1:
                 break
         self.native_steps += taken
-        if status in (4, 5):  # a step that may hold an event, or a step that collapsed (the hybrid
-            # loop watches the collapse and names its cause): back for a while
+        if status in (4, 5):  # a step that may hold an event, or steps that collapsed (the hybrid
+            # loop locates an arrest, or watches the collapse and names its cause): back for a while
             self.handbacks += 1
             self._cooldown = min(16, 2 * self._cooldown) if taken < 2 else COOLDOWN
             self._wait = self._cooldown
             self._handed = mode
         elif status != 0:
             self._failed.add(mode.structure)
-        return t, y, h_abs, (nt if times is not None else next_time)
+        return t, y, h_abs, (nt if times is not None else next_time), tiny_run

@@ -376,9 +376,9 @@ class Simulation:
             restart, first = False, True
             while not restart:
                 if self.fast_contacts.ready(mode, events, armed, drift, watched):  # to a possible event
-                    t, y, h, next_time = self.fast_contacts.run(mode, ode, events, tols, t_end, h, times, next_time,
-                                                                emit, budget, residual_max,
-                                                                inertia.floor if inertia.active else -1.0)
+                    t, y, h, next_time, tiny = self.fast_contacts.run(
+                        mode, ode, events, tols, t_end, h, times, next_time, emit, budget, residual_max,
+                        inertia.floor if inertia.active else -1.0, tiny)
                     restart = True
                     continue
                 go = self.fast.ready(mode, first, events, drift, watched)  # native code from here?

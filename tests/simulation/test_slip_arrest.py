@@ -19,23 +19,14 @@ from nonideal import gallery
 from nonideal.errors import IntegrationFailed
 from nonideal.modeling.modelfile import load_model
 from nonideal.modes.types import ContactState, Mode, SLIDE
+from nonideal.numeric import contact_integrator
 from nonideal.simulation.events import SlipStop
+from nonideal.simulation.guards import ARREST_STEPS
 from nonideal.simulation.hybrid import Simulation
 from nonideal.simulation.slipstall import slip_stall
-from tests.systems import sphere_on_plane
+from tests.systems import rough_rattleback, sphere_on_plane
 
 STARTS = [(0.05, -2.0), (0.1, -2.0), (0.2, -2.0), (0.1, -5.0), (0.3, -1.0)]
-
-
-def rough_rattleback(tmp_path, pitch, spin):
-    text = Path(gallery.__file__).with_name("rattleback.toml").read_text(encoding="utf-8")
-    for old, new in (('mu = "inf"', 'mu = "0.1"'), ("b = 0.01", f"b = {pitch}"),
-                     ('value = -2.0, unit = "rad/s"', f'value = {spin}, unit = "rad/s"')):
-        assert old in text
-        text = text.replace(old, new)
-    path = tmp_path / "rough_rattleback.toml"
-    path.write_text(text, encoding="utf-8")
-    return load_model(path)
 
 
 def check(tr):
@@ -132,3 +123,27 @@ def test_the_arrest_of_a_slip_the_steps_cannot_reach(g_end, g_before, armed, lev
         assert hits == []
     else:
         assert len(hits) == 1 and hits[0][1] == 0 and hits[0][0] == pytest.approx(expected, rel=1e-15)
+
+
+def test_the_native_loop_takes_an_onsets_short_steps(tmp_path, monkeypatch):
+    """The steps shorter than 1e-9 of the span at a slip's onset are taken natively; the
+    native loop hands them back only when ARREST_STEPS - 1 of them come in a row (the hybrid
+    loop then looks for a slip's arrest), with that count."""
+    model = rough_rattleback(tmp_path, 0.2)
+    phase, ends, short = contact_integrator.phase, [], []
+
+    class Recording:
+        signatures = phase.signatures
+
+        def __call__(self, *args):
+            out = phase(*args)
+            ends.append((out[0], out[-1]))
+            T = out[6][:out[8]]
+            short.append(int(np.sum(np.diff(T) < 1e-9)))
+            return out
+
+    monkeypatch.setattr(contact_integrator, "phase", Recording())
+    tr = nonideal.simulate(model, native=True, every_step=True, t_end=1.3)
+    assert [e["type"] for e in tr.events][:4] == ["stick", "slip", "stick", "slip"]
+    assert sum(short) > 0  # short steps taken natively
+    assert all(run >= ARREST_STEPS - 1 for status, run in ends if status == 4)
