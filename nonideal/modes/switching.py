@@ -28,9 +28,9 @@ import itertools
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..errors import MechanicsError, PainleveParadox, SetValuedFriction, SingularSystem
+from .onset import onset_directions
 from .system import compliance_of
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, ContactState, Mode
 from .solver import ModeSolver
@@ -85,41 +85,6 @@ def _linked(parents, combo) -> bool:
     """Whether every friction torque of *combo* touches exactly when its contact does."""
     return all(p is None or (cs.state == SEPARATED) == (combo[p].state == SEPARATED)
                for p, cs in zip(parents, combo))
-
-
-def _onset_directions(solver: ModeSolver, t, q, qd, mode: Mode, c: int):
-    """Directions s (unit, 2 components) at which sliding can start at contact c:
-    the slip acceleration is ``kappa s`` with ``kappa >= 0``."""
-    name = solver.ck.names[c]
-    cs = mode.contacts[c][1]
-    y = np.concatenate((q, qd))
-
-    def udot(phi):
-        s = (float(np.cos(phi)), float(np.sin(phi)))
-        motion = solver.motion(t, y, mode.with_contact(name, ContactState(SLIDE, s, cs.sigma)))
-        return motion.slip_acc(c), np.array(s)
-
-    def cross(phi):
-        ud, s = udot(phi)
-        return ud[0] * s[1] - ud[1] * s[0]
-
-    grid = np.linspace(-np.pi, np.pi, 73)
-    vals = []
-    for phi in grid:
-        try:
-            vals.append(cross(phi))
-        except (SingularSystem, SingularMatrix, MechanicsError):
-            vals.append(np.nan)
-    out = []
-    for a, b, fa, fb in zip(grid[:-1], grid[1:], vals[:-1], vals[1:]):
-        if not (np.isfinite(fa) and np.isfinite(fb)):
-            continue
-        if fa == 0 or fa * fb < 0:
-            phi = a if fa == 0 else brentq(cross, a, b, xtol=1e-14)
-            ud, s = udot(phi)
-            if ud @ s >= 0:
-                out.append(tuple(s))
-    return out
 
 
 def _consistent(solver, motion, mode, closed_uni, scales, onset_check=True):
@@ -292,7 +257,7 @@ def _select(solver, t, q, qd, tol_pos, tol_vel, exclude, previous, concerned, sq
                 expanded = []
                 for m in modes:
                     probe = m.with_contact(solver.ck.names[c], ContactState(SLIDE, (1.0, 0.0), cs.sigma))
-                    for s in _onset_directions(solver, t, q, qd, probe, c):
+                    for s in onset_directions(solver, t, q, qd, probe, c):
                         expanded.append(m.with_contact(solver.ck.names[c], ContactState(SLIDE, s, cs.sigma)))
                 modes = expanded
         for mode in modes:
