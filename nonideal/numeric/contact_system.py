@@ -64,13 +64,16 @@ def _lu(K, r, piv, s):
 
 @njit(cache=True)
 def _inverse_entry(K, piv, s, i):
-    """(K^-1)_{ii} from the LU factors of :func:`_lu`."""
+    """(K^-1)_{ii} from the LU factors of :func:`_lu`: ``P K = L U`` with whole rows (their
+    multipliers included) interchanged, so the interchanges all come first (LAPACK's
+    ``dgetrs``), then the two triangular solves."""
     e = np.zeros(s)
     e[i] = 1.0
     for j in range(s):
         p = piv[j]
         if p != j:
             e[j], e[p] = e[p], e[j]
+    for j in range(s):
         for k in range(j + 1, s):
             e[k] -= K[k + j * s] * e[j]
     for k in range(s - 1, -1, -1):
