@@ -13,8 +13,10 @@ outputs | contact outputs]``: the layout of the mode solver's buffer).
   find nothing: every guard armed, positive at both ends and, where it comes within
   :data:`PROBE_NEAR` times its change across the step of zero (its slopes at the ends
   included: tangent differences for the kinematic guards, the force guards' rates), positive
-  at the scan's samples on the dense output without a dip the scan would minimize; the
-  contacts' residuals below the projection threshold and the mass matrix definite.  A step that is not such a step is *not taken*: the loop
+  at the scan's samples on the dense output and, where the samples dip as the scan would
+  minimize, at the minimum of the dip (a golden-section search to the scan's tolerance); the
+  contacts' residuals below the projection threshold and the mass matrix definite.  A step
+  that is not such a step is *not taken*: the loop
   returns the state before it and the step size, and the hybrid loop takes that step with its
   scan (locating the event exactly) -- compiled code is left only where an event may be.
   After each step the force guards' rates bound the next one (:func:`~nonideal.simulation.
@@ -123,22 +125,60 @@ def _grow(T, Y, count, cap):
 
 
 @njit(cache=True)
-def _clear(s, g):
-    """Whether the samples g at the times s of a step show no event, as the hybrid loop's
-    scan (:meth:`StepScan._scan <nonideal.simulation.guards.StepScan>`) decides: no sign
-    change and no interior dip that its minimization would have to look into."""
-    for i in range(1, s.shape[0]):
+def _issue(s, g, start):
+    """``(kind, i)``: the first sample ``i >= start`` of the step at which the hybrid loop's
+    scan (:meth:`StepScan._scan <nonideal.simulation.guards.StepScan>`) would look closer --
+    kind 1 a sign change or a non-finite value (an event), kind 2 an interior dip that its
+    minimization would have to look into; kind 0 none."""
+    for i in range(start, s.shape[0]):
         if i < s.shape[0] - 1 and 0 < g[i] < g[i - 1] and g[i] < g[i + 1]:
             if g[i] < max(g[i - 1], g[i + 1]) - g[i]:
-                return False
+                return 2, i
             d01 = (g[i] - g[i - 1]) / (s[i] - s[i - 1])
             curvature = ((g[i + 1] - g[i]) / (s[i + 1] - s[i]) - d01) / (s[i + 1] - s[i - 1])
             slope = d01 + curvature * (s[i] - s[i - 1])
             if g[i] - slope * slope / (4.0 * curvature) <= 0:
-                return False
+                return 2, i
         if g[i - 1] > 0 >= g[i] or not math.isfinite(g[i]):
+            return 1, i
+    return 0, 0
+
+
+@njit(cache=True)
+def _guard_at(kern, S, E, k, x, t, h, y, F, tmp, dy, gv, sv):
+    """Guard k at time x of the step (its dense output F); NaN where the system is singular."""
+    interpolate(x, t, h, y, F, tmp)
+    if not rhs(kern, S, x, tmp, dy):
+        return math.nan
+    guards(S, E, gv, sv)
+    return gv[k]
+
+
+@njit(cache=True)
+def _dip_clear(kern, S, E, k, lo, hi, t, h, y, F, tmp, dy, gv, sv):
+    """Whether guard k stays positive over the dip ``[lo, hi]`` of the step: a golden-section
+    search for its minimum to the hybrid loop's tolerance (:meth:`StepScan._extremum
+    <nonideal.simulation.guards.StepScan>`), stopped at the first value that is not
+    positive (an event there: the hybrid loop locates it)."""
+    xatol = 1e-12 * max(1.0, abs(hi)) + 1e-9 * (hi - lo)
+    w = 0.5 * (math.sqrt(5.0) - 1.0)
+    a, b = lo, hi
+    c, d = b - w * (b - a), a + w * (b - a)
+    fc = _guard_at(kern, S, E, k, c, t, h, y, F, tmp, dy, gv, sv)
+    fd = _guard_at(kern, S, E, k, d, t, h, y, F, tmp, dy, gv, sv)
+    while True:
+        if not (fc > 0.0 and fd > 0.0):
             return False
-    return True
+        if b - a <= xatol:
+            return True
+        if fc < fd:
+            b, d, fd = d, c, fc
+            c = b - w * (b - a)
+            fc = _guard_at(kern, S, E, k, c, t, h, y, F, tmp, dy, gv, sv)
+        else:
+            a, c, fc = c, d, fd
+            d = a + w * (b - a)
+            fd = _guard_at(kern, S, E, k, d, t, h, y, F, tmp, dy, gv, sv)
 
 
 @njit(cache=True)
@@ -378,11 +418,20 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
                 guards(S, E, gs[p], sa)
             if status != 0:
                 break
+            gv = np.empty(ne)
             for k in range(ne):
                 if probe[k]:
                     gs[0, k], gs[PROBES + 3, k] = ga[k], gb[k]
-                    if not _clear(at_s, gs[:, k]):
-                        safe = False
+                    i = 1
+                    while safe:
+                        kind, i = _issue(at_s, gs[:, k], i)
+                        if kind == 0:
+                            break
+                        if kind == 1 or not _dip_clear(kern, S, E, k, at_s[i - 1], at_s[i + 1], t, h, y, F,
+                                                       tmp, dy, gv, sa):
+                            safe = False
+                        i += 1
+                    if not safe:
                         break
         if not safe:
             status = 5

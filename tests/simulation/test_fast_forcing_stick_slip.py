@@ -87,3 +87,18 @@ def test_every_short_slip_against_the_closed_form(F0, A, w):
     assert np.max(np.abs(np.array([t for t, _ in found]) - [t for t, _ in switches])) < 1e-8
     # the creep: each slip integrated, however short (a ratchet only moves forward)
     assert traj.coordinate("x")[-1] == pytest.approx(x_end, rel=1e-6, abs=1e-12)
+
+
+def test_a_dip_of_the_cone_margin_that_does_not_reach_zero_stays_native():
+    """|F| peaks at 99.9 % of mu m g twice a period: the margin dips as the scan minimizes
+    (its samples' parabola reaches zero), and the native loop finds the dip's minimum itself
+    (positive: no event) instead of handing the step back to the hybrid loop for it (16
+    hand-backs in 0.05 s before)."""
+    pytest.importorskip("numba")
+    from nonideal.simulation.hybrid import Simulation
+
+    sim = Simulation(block(0.0, 0.999 * MU * M * G, 1000.0), native=True)
+    tr = sim.run()
+    assert tr.events == [] and tr.t[-1] == 0.05
+    assert sim.fast_contacts.native_steps >= 50
+    assert sim.fast_contacts.handbacks == 0
