@@ -108,17 +108,16 @@ def _model_roots(udot, cross) -> list[float] | None:
     num_x = P0[0] + cs * P1[0] + sn * P2[0]
     num_y = P0[1] + cs * P1[1] + sn * P2[1]
     values = num_x * sn - num_y * cs
-    size = scale * (1.0 + np.abs(b).sum())
+    small = np.abs(values) <= 1e-13 * scale * (1.0 + np.abs(b).sum())
+    if np.any(small[:-1] & small[1:]):
+        return None  # the model vanishes over an interval: no isolated roots to bracket
+    fa, fb = values[:-1], values[1:]
     roots = []
-    for i in range(len(phi) - 1):
-        fa, fb = values[i], values[i + 1]
-        if abs(fa) <= 1e-13 * size and abs(fb) <= 1e-13 * size:
-            return None  # the model vanishes identically here: no isolated roots to bracket
-        if fa == 0 or fa * fb < 0:
-            root = _polish(cross, _model_root(P0, P1, P2, phi[i], phi[i + 1]) if fa != 0 else phi[i])
-            if root is None:
-                return None
-            roots.append(root)
+    for i in np.flatnonzero((fa == 0) | (fa * fb < 0)).tolist():
+        root = _polish(cross, _model_root(P0, P1, P2, phi[i], phi[i + 1]) if fa[i] != 0 else phi[i])
+        if root is None:
+            return None
+        roots.append(root)
     return roots
 
 
