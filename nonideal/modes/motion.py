@@ -107,7 +107,7 @@ class Motion:
         """Solve at this state (the compiled system of a hot mode, else the index path); the
         solver's :attr:`last`."""
         system, solver, mode = self.system, self.solver, self.mode
-        function = system.function if solver.specialize else None
+        function = system.function if solver.specialize and system in solver.hot else None
         if not (function and function.solve_with_powers(solver, function.inputs(solver, mode), self.t, self.y, mode)):
             system.solve(solver, self.t, self.y, mode)
         return solver.last

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..numeric.consistency import initial_branch
 from ..numeric.contact_kernel import SLIP_FLOOR, SLIP_LEVEL, contact_kernel_of
-from ..modeling.contacts import Coulomb, CoulombContensou, LinearizedCoulomb, RegularizedCoulomb
+from ..modeling.contacts import CoulombContensou, LinearizedCoulomb, RegularizedCoulomb
 from ..numeric.contensou import contensou_shape
 from ..equations.dynamics import dynamics_of
 from ..errors import FormNotApplicable, SetValuedFriction
@@ -37,7 +37,7 @@ from .partition import better_partition
 from .routes import route_for
 from .types import SEPARATED, SLIDE, SMOOTH, STICK, ContactForce, ContactState, Mode, RowSpec, Solution
 
-__all__ = ["ModeSolver", "recover_multipliers", "coulomb_exact"]
+__all__ = ["ModeSolver", "recover_multipliers"]
 
 
 class ModeSolver:
@@ -115,6 +115,11 @@ class ModeSolver:
         self.kz, self.cz = self.z[:kernel.dynamics.size], self.z[kernel.dynamics.size:]
         #: the last Lagrange I solve: (t, y, mode, [q''; -lambda], LU, pivots)
         self.last = None
+        self.start()
+
+    def start(self) -> None:
+        """A run starts: its ``calls`` of each mode system, and ``hot``, those compiled for it."""
+        self.calls, self.hot = {}, set()
 
     # ------------------------------------------------------------------ modes and rows
     def initial_contacts(self) -> tuple[tuple[str, ContactState], ...]:
@@ -593,7 +598,3 @@ def recover_multipliers(M: np.ndarray, F: np.ndarray, B: np.ndarray, qdd: np.nda
     """Multipliers from ``B mu = M q'' - F`` (exact for a consistent motion; least squares)."""
     mu, *_ = np.linalg.lstsq(B, M @ qdd - F, rcond=None)
     return mu
-
-
-def coulomb_exact(law) -> bool:
-    return isinstance(law, Coulomb)

@@ -196,8 +196,8 @@ class ModeSystem:
         self.src, self.dst = src, rows_K + cols_K * s
         self.rsrc = np.array(rsrc, dtype=np.intp)
         self.power = slice(ksl["P"], ksl["P"] + 2) if "P" in ksl else None
-        self.calls = 0  # evaluations by solve_with_powers (the right-hand side)
-        #: the compiled :class:`ModeFunction` once the structure is hot (False: not compilable)
+        #: the compiled :class:`ModeFunction` once the structure has been hot in a run (False:
+        #: not compilable); a run uses it once it is hot in that run (``ModeSolver.hot``)
         self.function = None
 
     # ------------------------------------------------------------------ evaluation
@@ -336,8 +336,8 @@ class ModeSystem:
         of the ideal and servo reactions, ``P_friction`` of the friction forces (both
         ``sum_j lambda_j B_j . q'`` over the rows concerned), ``P = [P_nc, P_t]`` of the forces
         and the explicit time dependence (None when the model has none).  The right-hand side
-        of the simulation: it counts towards :data:`SPECIALIZE_CALLS`."""
-        self.calls += 1
+        of the simulation: it counts towards :data:`SPECIALIZE_CALLS` (in *solver*'s run)."""
+        solver.calls[self] = solver.calls.get(self, 0) + 1
         K, r, fq = self.assemble(solver, t, y, mode, powers=True)
         n = self.n
         if self.sparse is not None:
@@ -356,14 +356,18 @@ class ModeSystem:
             friction -= float(lam[j] * solver.z[self.tangent_slip[j]])
         return sol, total - friction, friction, (solver.kz[self.power] if self.power else None)
 
-    def specialized(self, kernel, mode: Mode):
-        """The :class:`ModeFunction` of this structure once it has been evaluated
-        :data:`SPECIALIZE_CALLS` times by :meth:`solve_with_powers` (compiled then, once), or
-        None (before that, without contact rows, or for a law it does not compile)."""
-        if self.function is None and self.calls >= SPECIALIZE_CALLS and self.contact_rows and not self._dependent \
-                and self.sparse is None \
+    def specialized(self, kernel, mode: Mode, solver):
+        """The :class:`ModeFunction` of this structure once *solver*'s run has evaluated it
+        :data:`SPECIALIZE_CALLS` times by :meth:`solve_with_powers` (compiled then, once per
+        process), or None (before that, without contact rows, or for a law it does not
+        compile).  From then on the run's motions read it too (``solver.hot``)."""
+        if solver.calls.get(self, 0) < SPECIALIZE_CALLS:
+            return None
+        if self.function is None and self.contact_rows and not self._dependent and self.sparse is None \
                 and not contact_kernel_of(kernel.model).torques:   # friction torques: the index path
             self.function = ModeFunction.of(kernel, self, mode)
+        if self.function:
+            solver.hot.add(self)
         return self.function or None
 
     def compliance(self, lu: np.ndarray, piv: np.ndarray, c: int) -> float:
@@ -383,13 +387,13 @@ well above the rounding of rows that are exactly dependent at admissible states,
 the conditioning of a well-posed mode."""
 
 SPECIALIZE_CALLS = 400
-"""Right-hand-side evaluations of a mode structure after which :class:`ModeFunction` compiles
-it: 3-6 ms of compilation for a small system (LLVM, unoptimized), ~10 us saved per
-evaluation (measured on the sphere benchmark: 19 -> 8 us), so it pays for itself after a
-few hundred evaluations -- a long simulation, or a model simulated repeatedly.  Short single
-runs keep the index path (no compilation).  Until then the phases of that mode run on the
-index path; the switch happens at the start of a phase, and the two paths agree to rounding
-(tested to 1e-13), not bit for bit."""
+"""Right-hand-side evaluations of a mode structure in one run after which :class:`ModeFunction`
+compiles it (once per process): 3-6 ms of compilation for a small system (LLVM, unoptimized),
+~10 us saved per evaluation (measured on the sphere benchmark: 19 -> 8 us), so it pays for
+itself after a few hundred evaluations.  Short runs keep the index path.  Until then the
+phases of that mode run on the index path; the switch happens at the start of a phase, and
+the two paths agree to rounding (tested to 1e-13), not bit for bit -- which is why the count
+is the run's own: a run takes the same path whatever ran before it in the process."""
 
 
 class ModeFunction:

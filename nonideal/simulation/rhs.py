@@ -48,7 +48,7 @@ def saddle_point_rhs(sim, mode: Mode):
         return fun
 
     # the compiled system, once this mode structure has been integrated long enough
-    function = system.specialized(sim.kernel, mode) if solver.specialize else None
+    function = system.specialized(sim.kernel, mode, solver) if solver.specialize else None
     controls = sim.control_rows
     columns = [system.row_col.get(i) for i in controls]
     x = function.inputs(solver, mode) if function else None

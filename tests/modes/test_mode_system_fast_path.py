@@ -30,6 +30,7 @@ from nonideal.simulation.hybrid import WORK_ATOL, Simulation
 from nonideal.simulation.rhs import general_rhs
 from nonideal.modes.switching import effective_compliance
 from tests.helpers import DATA_DIR
+from tests.systems import rough_rattleback
 
 REFERENCE = json.loads((DATA_DIR / "gallery_reference.json").read_text())
 
@@ -310,3 +311,20 @@ def test_specialize_false_keeps_the_index_path_bit_for_bit(monkeypatch):
     again = nonideal.simulate(model, specialize=False)
     assert np.array_equal(first.t, again.t) and np.array_equal(first.qd, again.qd)
     assert [e["t"] for e in first.events] == [e["t"] for e in again.events]
+
+
+def test_a_run_takes_the_same_path_whatever_ran_before_it(tmp_path):
+    """A run uses the compiled system of a mode once the run itself has evaluated that mode
+    SPECIALIZE_CALLS times, so a run is the same bit for bit whatever ran before it in the
+    process.  (The count was the process's: the second run of the rough rattleback was
+    compiled from its start, differed at rounding, and its stick-slip sequence shifted.)"""
+    model = rough_rattleback(tmp_path, 0.2)
+    sim = Simulation(model, native=True)
+    first = sim.run(t_end=1.3)
+    assert [e["type"] for e in first.events][:4] == ["stick", "slip", "stick", "slip"]
+    for again in (sim.run(t_end=1.3), nonideal.simulate(model, native=True, t_end=1.3)):
+        assert np.array_equal(first.t, again.t) and np.array_equal(first.qd, again.qd)
+        assert [e["t"] for e in first.events] == [e["t"] for e in again.events]
+    long = Simulation(gallery.load("stick-slip-oscillator"), native=False)
+    long.run()
+    assert long.solver.hot  # a long run compiles its hot mode
