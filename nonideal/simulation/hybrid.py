@@ -82,10 +82,11 @@ class Simulation:
     detect_jam : bool
         Watch the effective normal compliance of sliding contacts (Painleve's paradox).
     specialize : bool
-        Compile the saddle-point system of a mode with contacts once its structure has been
-        integrated :data:`~nonideal.modes.system.SPECIALIZE_CALLS` times (faster; it agrees
-        with the index path to rounding).  ``False`` keeps the index path, so that a run
-        gives bit-identical results whatever ran before it in the process.
+        Compile the saddle-point system of a mode with contacts once the run has integrated
+        its structure :data:`~nonideal.modes.system.SPECIALIZE_CALLS` times (faster; it agrees
+        with the index path to rounding; the count is the run's own, so a run gives the same
+        results bit for bit whatever ran before it in the process).  ``False`` keeps the
+        index path.
     singular : {"smooth", "stop"}, optional
         Where the constraints become singular along the motion: go on on the smooth branch
         (an event ``singular``) or stop (:class:`~nonideal.errors.SingularMotion`); default
@@ -123,7 +124,6 @@ class Simulation:
         if self.singular not in BRANCHES:
             raise ModelError(f"singular: must be one of {', '.join(BRANCHES)} (got {self.singular!r})")
         self.max_events = max_events
-        self._chain = (-np.inf, [])  # the modes events ended at one instant (all marginal there)
         self.max_samples = max_samples
         self.grid = grid if grid is not None else (sim.grid or GRID)
         self.every_step = every_step if every_step is not None else (sim.every_step and grid is None)
@@ -327,6 +327,8 @@ class Simulation:
         y = np.concatenate((q0, qd0, np.zeros(N_WORK + len(self.control_rows) if self.track else 0)))
         atol = self.work_tolerances() if self.track else self.atol
         samples = SampleBuffer(self.max_samples)  # bounded: thinned past max_samples steps
+        self.solver.start()
+        self._chain = (-np.inf, [])  # the modes events ended at one instant (all marginal there)
         self.fast.start()
         self.fast_contacts.start()
         budget = StepBudget(t0, t_end, source, method=self.method)
