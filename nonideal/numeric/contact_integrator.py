@@ -273,8 +273,9 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
     run): status 0 reached t_end, 1 max_steps taken, 2 step too small, 3 singular system, 4
     run_max steps in a row shorter than tiny taken (run of them before the phase, run at its
     end: the hybrid loop's count, which locates a slip's arrest after ARREST_STEPS of them),
-    5 the next step (h_abs) may hold an event: (t, y, f) is the state before it.  Samples: every accepted step (times empty) or the dense output at the
-    requested times; res_p, res_v the largest residuals of the contacts at the steps."""
+    5 the next step (h_abs) may hold an event: (t, y, f) is the state before it.  Samples:
+    every accepted step (times empty) or the dense output at the requested times; res_p,
+    res_v the largest residuals of the contacts at the steps."""
     ny = y.shape[0]
     hdr = S[15]
     n = hdr[0]
@@ -310,6 +311,7 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
     probe = np.zeros(ne, dtype=np.bool_)
     at_s = np.empty(PROBES + 4)
     gs = np.empty((PROBES + 4, ne))
+    gv = np.empty(ne)
     # the guards and rates at the start
     if not rhs(kern, S, t, y, dy):
         return 3, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run
@@ -418,7 +420,6 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
                 guards(S, E, gs[p], sa)
             if status != 0:
                 break
-            gv = np.empty(ne)
             for k in range(ne):
                 if probe[k]:
                     gs[0, k], gs[PROBES + 3, k] = ga[k], gb[k]
