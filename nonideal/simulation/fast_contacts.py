@@ -253,7 +253,8 @@ class FastContacts:
         self._with_references(mode)
         nat = self.native
         t, y, f, h_abs = float(ode.t), np.array(ode.y, dtype=float), np.array(ode.f, dtype=float), float(ode.h_abs)
-        atol = np.broadcast_to(np.asarray(ode.atol, dtype=float), y.shape).copy()
+        atol = np.asarray(ode.atol, dtype=float)
+        atol = atol.copy() if atol.shape == y.shape else np.full(y.shape, float(atol))
         grid = np.asarray(times if times is not None else np.zeros(0), dtype=float)
         nt = next_time if times is not None else 0
         tiny = 1e-9 * min(t_end - budget.t0, 1.0)
@@ -263,7 +264,7 @@ class FastContacts:
         while True:
             # the loop's first call in a process compiles it (or loads numba's cache): no part
             # of the run's time, as the loading above
-            first = not nat.loop.phase.signatures
+            first = not nat.loop.phase.overloads  # (its signatures: a list built at each read, 10 us)
             spent = time.thread_time()
             with deferred_signals():
                 (status, t, y, f, h_abs, step_max, T, Y, count, nt, steps, res_p, res_v, tiny_run) = nat.loop.phase(

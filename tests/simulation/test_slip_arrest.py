@@ -133,7 +133,7 @@ def test_the_native_loop_takes_an_onsets_short_steps(tmp_path, monkeypatch):
     phase, ends, short = contact_integrator.phase, [], []
 
     class Recording:
-        signatures = phase.signatures
+        overloads = phase.overloads
 
         def __call__(self, *args):
             out = phase(*args)
