@@ -33,11 +33,18 @@ def site(tmp_path_factory):
     pytest.importorskip("sphinx", reason="the documentation needs the 'docs' extra: pip install '.[docs]'")
     pytest.importorskip("myst_nb", reason="the documentation needs the 'docs' extra: pip install '.[docs]'")
     out = tmp_path_factory.mktemp("html")
+    # the build writes its generated pages into the source tree: each test process builds a
+    # copy of it (with the package beside it, as the pages include the gallery's files), so
+    # that two processes of a parallel run do not remove each other's pages
+    tree = tmp_path_factory.mktemp("tree")
+    source = tree / "docs"
+    shutil.copytree(DOCS, source, ignore=shutil.ignore_patterns("generated", "_build"))
+    (tree / "nonideal").symlink_to(ROOT / "nonideal", target_is_directory=True)
     env = dict(os.environ, NONIDEAL_DOCS_GALLERY=GALLERY, PYTHONPATH=str(ROOT))
     if MATHJAX.exists():     # typeset offline, for the browser check below
         env["NONIDEAL_DOCS_MATHJAX"] = MATHJAX.as_uri() + "?config=TeX-AMS-MML_HTMLorMML"
     r = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-b", "html", "-q",
-                        str(DOCS), str(out)], capture_output=True, text=True, env=env, timeout=1500)
+                        str(source), str(out)], capture_output=True, text=True, env=env, timeout=1500)
     warnings = [line for line in r.stderr.splitlines()
                 if re.search(r"WARNING|ERROR", line) and "IPKernelApp" not in line]
     assert r.returncode == 0 and not warnings, "\n".join(warnings) or r.stderr[-3000:]
