@@ -16,9 +16,12 @@ outputs | contact outputs]``: the layout of the mode solver's buffer).
   at the scan's samples on the dense output and, where the samples dip as the scan would
   minimize, at the minimum of the dip (a golden-section search to the scan's tolerance); the
   contacts' residuals below the projection threshold and the mass matrix definite.  A step
-  that is not such a step is *not taken*: the loop
-  returns the state before it and the step size, and the hybrid loop takes that step with its
-  scan (locating the event exactly) -- compiled code is left only where an event may be.
+  that is not such a step is *not taken*: the loop returns the state before it and the step
+  size.  Where only a guard's reaching zero makes it such a step, the loop locates the event
+  in it as the scan would (the first zero of each guard from its samples or ends, a dip's
+  minimum by golden section, Brent's method on the dense output) and returns it with the
+  step's dense output; otherwise the hybrid loop takes the step with its scan -- compiled code
+  is left only at an event, or where one may be.
   After each step the force guards' rates bound the next one (:func:`~nonideal.simulation.
   guards.step_limit`), as in the hybrid loop.
 
@@ -39,6 +42,7 @@ import numpy as np
 from scipy.integrate import DOP853 as _D
 
 from .contact_kernel import SLIP_FLOOR
+from .contact_events import dip, first_root, issue
 from .contact_system import definite, guards, residuals, rhs
 from .integrator import error_norm, interpolate, njit
 
@@ -122,63 +126,6 @@ def _grow(T, Y, count, cap):
     T2[:count] = T[:count]
     Y2[:count] = Y[:count]
     return T2, Y2
-
-
-@njit(cache=True)
-def _issue(s, g, start):
-    """``(kind, i)``: the first sample ``i >= start`` of the step at which the hybrid loop's
-    scan (:meth:`StepScan._scan <nonideal.simulation.guards.StepScan>`) would look closer --
-    kind 1 a sign change or a non-finite value (an event), kind 2 an interior dip that its
-    minimization would have to look into; kind 0 none."""
-    for i in range(start, s.shape[0]):
-        if i < s.shape[0] - 1 and 0 < g[i] < g[i - 1] and g[i] < g[i + 1]:
-            if g[i] < max(g[i - 1], g[i + 1]) - g[i]:
-                return 2, i
-            d01 = (g[i] - g[i - 1]) / (s[i] - s[i - 1])
-            curvature = ((g[i + 1] - g[i]) / (s[i + 1] - s[i]) - d01) / (s[i + 1] - s[i - 1])
-            slope = d01 + curvature * (s[i] - s[i - 1])
-            if g[i] - slope * slope / (4.0 * curvature) <= 0:
-                return 2, i
-        if g[i - 1] > 0 >= g[i] or not math.isfinite(g[i]):
-            return 1, i
-    return 0, 0
-
-
-@njit(cache=True)
-def _guard_at(kern, S, E, k, x, t, h, y, F, tmp, dy, gv, sv):
-    """Guard k at time x of the step (its dense output F); NaN where the system is singular."""
-    interpolate(x, t, h, y, F, tmp)
-    if not rhs(kern, S, x, tmp, dy):
-        return math.nan
-    guards(S, E, gv, sv)
-    return gv[k]
-
-
-@njit(cache=True)
-def _dip_clear(kern, S, E, k, lo, hi, t, h, y, F, tmp, dy, gv, sv):
-    """Whether guard k stays positive over the dip ``[lo, hi]`` of the step: a golden-section
-    search for its minimum to the hybrid loop's tolerance (:meth:`StepScan._extremum
-    <nonideal.simulation.guards.StepScan>`), stopped at the first value that is not
-    positive (an event there: the hybrid loop locates it)."""
-    xatol = 1e-12 * max(1.0, abs(hi)) + 1e-9 * (hi - lo)
-    w = 0.5 * (math.sqrt(5.0) - 1.0)
-    a, b = lo, hi
-    c, d = b - w * (b - a), a + w * (b - a)
-    fc = _guard_at(kern, S, E, k, c, t, h, y, F, tmp, dy, gv, sv)
-    fd = _guard_at(kern, S, E, k, d, t, h, y, F, tmp, dy, gv, sv)
-    while True:
-        if not (fc > 0.0 and fd > 0.0):
-            return False
-        if b - a <= xatol:
-            return True
-        if fc < fd:
-            b, d, fd = d, c, fc
-            c = b - w * (b - a)
-            fc = _guard_at(kern, S, E, k, c, t, h, y, F, tmp, dy, gv, sv)
-        else:
-            a, c, fc = c, d, fd
-            d = a + w * (b - a)
-            fd = _guard_at(kern, S, E, k, d, t, h, y, F, tmp, dy, gv, sv)
 
 
 @njit(cache=True)
@@ -270,12 +217,16 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
     force guards' limit; max_step the run's), while no event can happen (module docstring).
 
     Returns (status, t, y, f, h_abs, step_max, T, Y, count, next_time, steps, res_p, res_v,
-    run): status 0 reached t_end, 1 max_steps taken, 2 step too small, 3 singular system, 4
-    run_max steps in a row shorter than tiny taken (run of them before the phase, run at its
-    end: the hybrid loop's count, which locates a slip's arrest after ARREST_STEPS of them),
-    5 the next step (h_abs) may hold an event: (t, y, f) is the state before it.  Samples:
-    every accepted step (times empty) or the dense output at the requested times; res_p,
-    res_v the largest residuals of the contacts at the steps."""
+    run, te, ke, ye, Fe): status 0 reached t_end, 1 max_steps taken, 2 step too small, 3
+    singular system, 4 run_max steps in a row shorter than tiny taken (run of them before the
+    phase, run at its end: the hybrid loop's count, which locates a slip's arrest after
+    ARREST_STEPS of them), 5 the next step (h_abs) may hold an event that the loop does not
+    locate (a guard not a number, a residual to project, the mass matrix near singular):
+    (t, y, f) is the state before it, 6 the step from (t, y, f) of length h_abs holds event
+    ke, whose guard reaches zero first at te (ye the state there, Fe the step's dense output:
+    the event located as the hybrid loop's scan locates it).  Samples: every accepted step
+    (times empty) or the dense output at the requested times; res_p, res_v the largest
+    residuals of the contacts at the steps."""
     ny = y.shape[0]
     hdr = S[15]
     n = hdr[0]
@@ -314,12 +265,12 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
     gv = np.empty(ne)
     # the guards and rates at the start
     if not rhs(kern, S, t, y, dy):
-        return 3, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run
+        return 3, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run, 0.0, -1, y[:0], F[:0]
     guards(S, E, ga, sa)
     _rates(kern, S, E, t, y, dy, ga, sa, h_last, ra, ca, knowna)
     for k in range(ne):
         if not ga[k] > evf[k, 1]:  # not armed: the hybrid loop watches it
-            return 5, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run
+            return 5, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run, 0.0, -1, y[:0], F[:0]
     while t < t_end:
         if steps >= max_steps:
             status = 1
@@ -369,6 +320,7 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
         safe = max(rp, rv) <= PROJECTION_TOL * scale
         if safe and floor >= 0.0:
             safe = definite(zb, n, hdr[3], floor)
+        crossing = False  # unsafe only where a guard reaches zero (the step is otherwise sound)
         if safe:  # the slopes of the kinematic guards at the ends, the rates of the force guards
             e = SLOPE_STEP * h
             for i in range(ny):
@@ -385,12 +337,13 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
             guards(S, E, kb, sa)
             _rates(kern, S, E, t_new, y_new, f_new, gb, sb, h, rb, cb, knownb)
             probe[:] = False
+            lost = False  # a guard that is not a number: the hybrid loop looks
             for k in range(ne):
                 a, b = ga[k], gb[k]
                 if not (math.isfinite(a) and math.isfinite(b)):
                     if math.isinf(a) and math.isinf(b) and a > 0 and b > 0:
                         continue  # an unbounded cone (ideal rolling)
-                    safe = False
+                    lost = True
                     break
                 change = abs(b - a)
                 kind = ev[k, 0]
@@ -400,18 +353,21 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
                 elif knowna[k] and knownb[k]:
                     change = max(change, h * max(abs(ra[k]), abs(rb[k])))
                 probe[k] = not min(a, b) > PROBE_NEAR * change
-                if not (a > 0.0 and b > 0.0):
-                    safe = False
-                    break
-        if safe and probe.any():  # the scan's samples on the dense output
-            if not _dense(kern, S, t, h, y, y_new, f_new, K, F):
+                if not b > 0.0:  # (a > 0: every guard is positive at an accepted step)
+                    safe, crossing = False, True
+            if lost:
+                safe = crossing = False
+            elif (probe.any() or crossing) and not _dense(kern, S, t, h, y, y_new, f_new, K, F):
                 status = 3
                 break
-            hh = h / (PROBES + 1)
-            at_s[0], at_s[1] = t, t + NEAR_END * hh
-            for p in range(PROBES):
-                at_s[2 + p] = t + hh * (p + 1)
-            at_s[PROBES + 2], at_s[PROBES + 3] = t_new - NEAR_END * hh, t_new
+        hh = h / (PROBES + 1)
+        at_s[0], at_s[1] = t, t + NEAR_END * hh
+        for p in range(PROBES):
+            at_s[2 + p] = t + hh * (p + 1)
+        at_s[PROBES + 2], at_s[PROBES + 3] = t_new - NEAR_END * hh, t_new
+        gs[0, :] = ga
+        gs[PROBES + 3, :] = gb
+        if (safe or crossing) and probe.any():  # the scan's samples on the dense output
             for p in range(1, PROBES + 3):
                 interpolate(at_s[p], t, h, y, F, tmp)
                 if not rhs(kern, S, at_s[p], tmp, dy):
@@ -421,19 +377,33 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
             if status != 0:
                 break
             for k in range(ne):
-                if probe[k]:
-                    gs[0, k], gs[PROBES + 3, k] = ga[k], gb[k]
+                if probe[k] and safe:
                     i = 1
                     while safe:
-                        kind, i = _issue(at_s, gs[:, k], i)
+                        kind, i = issue(at_s, gs[:, k], i)
                         if kind == 0:
                             break
-                        if kind == 1 or not _dip_clear(kern, S, E, k, at_s[i - 1], at_s[i + 1], t, h, y, F,
-                                                       tmp, dy, gv, sa):
-                            safe = False
+                        if kind == 1:
+                            safe, crossing = False, math.isfinite(gs[i, k])
+                        else:
+                            found, _x, _g = dip(kern, S, E, k, at_s[i - 1], at_s[i + 1], t, h, y, F, tmp, dy,
+                                                 gv, sa)
+                            if found != 0:
+                                safe, crossing = False, found > 0
                         i += 1
-                    if not safe:
-                        break
+        if crossing:  # an event in the step: located as the hybrid loop's scan locates it
+            te, ke = math.inf, -1
+            for k in range(ne):
+                tk = first_root(kern, S, E, k, probe[k], at_s, gs[:, k], t, h, y, F, tmp, dy, gv, sa)
+                if math.isnan(tk):
+                    ke = -1
+                    break
+                if tk < te:
+                    te, ke = tk, k
+            if ke >= 0:
+                interpolate(te, t, h, y, F, tmp)
+                return (6, t, y, f, h, step_max, T[:count], Y[:count], count, next_time, steps, res_p, res_v,
+                        run, te, ke, tmp.copy(), F.copy())
         if not safe:
             status = 5
             h_abs = h_try
@@ -490,7 +460,8 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
         if run >= run_max and t < t_end:
             status = 4
             break
-    return status, t, y, f, h_abs, step_max, T[:count], Y[:count], count, next_time, steps, res_p, res_v, run
+    return (status, t, y, f, h_abs, step_max, T[:count], Y[:count], count, next_time, steps, res_p, res_v, run,
+            0.0, -1, y[:0], F[:0])
 
 
 

@@ -50,10 +50,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..modes.types import SEPARATED, SLIDE, STICK, ContactState
+from ..modes.types import SEPARATED, SLIDE, SMOOTH, STICK, ContactState
 
 __all__ = ["Event", "Release", "Touch", "ContactTouch", "Lift", "SlipStart", "SlipStop", "Jam",
-           "transition"]
+           "transition", "mode_events"]
 
 
 def transition(before: ContactState, after: ContactState) -> str | None:
@@ -210,3 +210,32 @@ class Jam(ContactEvent):
 
     def value(self, motion) -> float:
         return motion.compliance(self.row)
+
+
+def mode_events(solver, mode, detect_jam: bool = True) -> list[Event]:
+    """The events that end a phase in *mode* (a :class:`~nonideal.modes.solver.ModeSolver`'s
+    model): per closed unilateral constraint its release or touch, per contact its touch,
+    lift-off (or the sign of a bilateral one's normal force), slip or stop, and while it slides
+    Painleve's watch (*detect_jam*)."""
+    out: list[Event] = []
+    for i in solver.unilateral:
+        name = solver.kernel.rows[i].name
+        out.append(Release("release", name, i) if name in mode.held else Touch("contact", name, i))
+    for c, (name, cs) in enumerate(mode.contacts):
+        bilateral = solver.ck.data[c].bilateral
+        torque = c in solver.ck.torques  # touches and lifts with its contact: stick, slip only
+        if cs.state == SEPARATED:
+            out += [] if torque else [ContactTouch("touch", name, c)]
+            continue
+        if not bilateral and not torque:
+            out.append(Lift("lift-off", name, c))
+        elif cs.state in (SLIDE, SMOOTH):
+            out.append(Lift("normal-sign", name, c, sigma=cs.sigma))
+        if cs.state == STICK:
+            out.append(SlipStart("slip", name, c))
+        elif cs.state == SLIDE:
+            direction = cs.direction[0] if solver.ck.dims[c] == 1 else 1.0
+            out.append(SlipStop("slip-stop", name, c, direction=direction))
+            if detect_jam and not bilateral and not torque:
+                out.append(Jam("jam", name, c))
+    return out

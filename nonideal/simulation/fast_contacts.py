@@ -9,12 +9,15 @@ the residuals) only proves that.  :class:`FastContacts` hands such a phase to
 same right-hand side (the saddle-point system with the friction columns, compiled with the
 contacts: :mod:`nonideal.numeric.native_contacts`) and makes the same tests natively (the
 guards at the ends of the step, their slopes and rates, the samples inside the step where the
-scan takes them); the first step in which the scan *could* find something (a sign change, a
-dip of a guard that the scan would minimize, a residual to project, the mass matrix near
-singular) is not taken natively: the hybrid loop restarts at the state before
-it with that step size and takes it with its scan, which locates the event exactly as without
-native code.  After such a hand-back the loop takes :data:`COOLDOWN` steps (doubled while
-the native code hands back at once) before it tries again.
+scan takes them, the minimum of a dip the scan would minimize).  In the first step in which a
+guard reaches zero the native code locates the event as the scan does (the first zero of each
+guard, Brent's method on the dense output) and hands the step over as a :class:`LocatedStep`:
+the hybrid loop samples it up to the event and switches there, as after a step of its own.  A
+step the native code does not decide (a guard that is not a number, a residual to project,
+the mass matrix near singular, :data:`~nonideal.simulation.guards.ARREST_STEPS` - 1 very short
+steps in a row) is not taken: the hybrid loop restarts at the state before it with that step
+size and takes it with its scan.  After such a hand-back the loop takes :data:`COOLDOWN`
+steps (doubled while the native code hands back at once) before it tries again.
 
 Applies to Lagrange I with DOP853, contacts that touch, stick or slide by Coulomb's law
 (not the regularized laws, not friction torques), no unilateral constraint rows, no drift-
@@ -41,13 +44,39 @@ from .sample_batch import SampleBatch
 from .fast import NATIVE_CHUNK, NATIVE_STEPS, deferred_signals
 from .guards import ARREST_STEPS
 
-__all__ = ["FastContacts", "COOLDOWN"]
+__all__ = ["FastContacts", "LocatedStep", "COOLDOWN"]
 
 COOLDOWN = 1
 """Steps the hybrid loop takes after a native phase handed a step back before it tries native
 code again (doubled, up to 16, while the native code hands back within two steps)."""
 
 _KINDS = {ContactTouch: 0, Lift: 1, SlipStart: 2, SlipStop: 3, Jam: 4}
+
+
+class LocatedStep:
+    """The step from ``(a, y)`` of length *h* in which the native code located event *k* at
+    *te* (*ye* the state there): what the hybrid loop reads of a step whose event it
+    switches, as of a :class:`~nonideal.simulation.guards.Step` -- its ``hits``, its ends, the
+    state at a time of it (``dense``: SciPy's ``Dop853DenseOutput`` of the coefficients *F*)."""
+
+    def __init__(self, a: float, h: float, y: np.ndarray, F: np.ndarray, te: float, k: int, ye: np.ndarray):
+        self.a, self.b, self.h, self.y, self.F = a, a + h, h, y, F
+        self.hits = [(te, k)]
+        self._te, self._ye = te, ye
+
+    def dense(self, s):
+        """The state at time(s) *s* of the step: shape ``(n_y,)``, or ``(n_y, len(s))``."""
+        x = (np.asarray(s, dtype=float) - self.a) / self.h
+        y = np.zeros((x.size, self.y.size)) if x.ndim else np.zeros(self.y.size)
+        xx = x[:, None] if x.ndim else x
+        for i, row in enumerate(self.F[::-1]):
+            y += row
+            y *= xx if i % 2 == 0 else 1.0 - xx
+        y += self.y
+        return y.T
+
+    def state(self, s: float) -> np.ndarray:
+        return self._ye.copy() if s == self._te else self.dense(s)
 
 
 class FastContacts:
@@ -96,9 +125,10 @@ class FastContacts:
         self._wait = 0
         self._handed = None  # the mode of the last hand-back
         self._cooldown = COOLDOWN
-        #: steps taken natively in the run, and the hand-backs to the hybrid loop
+        #: steps taken natively in the run, the hand-backs to the hybrid loop, the events located
         self.native_steps = 0
         self.handbacks = 0
+        self.located = 0
 
     def _eligible(self, mode: Mode, events, drift, watched) -> bool:
         if self.sim.method != "DOP853" or watched or drift[0] or drift[1]:
@@ -238,18 +268,19 @@ class FastContacts:
     def run(self, mode: Mode, ode, events, tols, t_end: float, h_last, times, next_time: int, emit,
             budget, residual_max, floor: float, tiny_run: int = 0):
         """Integrate natively from the SciPy solver's state (module docstring).  Returns
-        ``(t, y, h, next_time, tiny_run)``: where the hybrid loop goes on, with the step to take
-        next, and its count of steps in a row shorter than 1e-9 of the span (*tiny_run* before):
-        the native code takes such steps, a slip's onset, and hands back when they are
+        ``(t, y, h, next_time, tiny_run, located)``: where the hybrid loop goes on, with the step
+        to take next, and its count of steps in a row shorter than 1e-9 of the span (*tiny_run*
+        before): the native code takes such steps, a slip's onset, and hands back when they are
         :data:`~nonideal.simulation.guards.ARREST_STEPS` - 1 in a row (the next may locate a
-        slip's arrest)."""
+        slip's arrest).  *located*: the :class:`LocatedStep` from ``(t, y)`` in which the
+        native code located an event, or None (the hybrid loop takes the next step itself)."""
         budget.start += self.loading  # a compilation is no part of the run's time
         self.loading = 0.0
         S, contacts = self._system_arrays(mode)
         E = self._event_arrays(mode, events, tols, contacts)
         if E is None:
             self._failed.add(mode.structure)
-            return float(ode.t), ode.y, float(ode.h_abs), next_time, tiny_run
+            return float(ode.t), ode.y, float(ode.h_abs), next_time, tiny_run, None
         self._with_references(mode)
         nat = self.native
         t, y, f, h_abs = float(ode.t), np.array(ode.y, dtype=float), np.array(ode.f, dtype=float), float(ode.h_abs)
@@ -267,7 +298,8 @@ class FastContacts:
             first = not nat.loop.phase.overloads  # (its signatures: a list built at each read, 10 us)
             spent = time.thread_time()
             with deferred_signals():
-                (status, t, y, f, h_abs, step_max, T, Y, count, nt, steps, res_p, res_v, tiny_run) = nat.loop.phase(
+                (status, t, y, f, h_abs, step_max, T, Y, count, nt, steps, res_p, res_v, tiny_run,
+                 te, ke, ye, Fe) = nat.loop.phase(
                     nat.kernel, S, E, t, y, f, h_abs, span, float(t_end), float(ode.rtol), atol,
                     float(self.sim.max_step), step_max, float(floor), grid, nt, NATIVE_CHUNK,
                     tiny + 4e-16 * abs(t_end), tiny_run, ARREST_STEPS - 1)
@@ -281,6 +313,10 @@ class FastContacts:
             if status != 1:
                 break
         self.native_steps += taken
+        if status == 6:
+            self.located += 1
+            return t, y, h_abs, (nt if times is not None else next_time), tiny_run, LocatedStep(t, h_abs, y, Fe, te,
+                                                                                                 int(ke), ye)
         if status in (4, 5):  # a step that may hold an event, or steps that collapsed (the hybrid
             # loop locates an arrest, or watches the collapse and names its cause): back for a while
             self.handbacks += 1
@@ -289,4 +325,4 @@ class FastContacts:
             self._handed = mode
         elif status != 0:
             self._failed.add(mode.structure)
-        return t, y, h_abs, (nt if times is not None else next_time), tiny_run
+        return t, y, h_abs, (nt if times is not None else next_time), tiny_run, None

@@ -27,11 +27,11 @@ from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 
 from ..numeric.consistency import complete_state, project_state
 from ..errors import IntegrationFailed, ModelError, PainleveParadox
-from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, transition
+from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, mode_events, transition
 from ..modeling.model import Model
 from ..modeling.shapes.watch import SupportWatch
 from ..modes.motion import Motion
-from ..modes.types import SEPARATED, SLIDE, SMOOTH, STICK, Mode
+from ..modes.types import Mode
 from ..modes.solver import ModeSolver
 from ..numeric.contact_kernel import SLIP_LEVEL
 from ..numeric.kernel import kernel_of, max_abs, parameter_vector
@@ -143,32 +143,7 @@ class Simulation:
 
     # ------------------------------------------------------------------ events
     def events(self, mode: Mode, t: float, y: np.ndarray) -> list[Event]:
-        out: list[Event] = []
-        for i in self.solver.unilateral:
-            name = self.kernel.rows[i].name
-            if name in mode.held:
-                out.append(Release("release", name, i))
-            else:
-                out.append(Touch("contact", name, i))
-        for c, (name, cs) in enumerate(mode.contacts):
-            bilateral = self.solver.ck.data[c].bilateral
-            torque = c in self.solver.ck.torques  # touches and lifts with its contact: stick, slip only
-            if cs.state == SEPARATED:
-                out += [] if torque else [ContactTouch("touch", name, c)]
-                continue
-            if not bilateral and not torque:
-                out.append(Lift("lift-off", name, c))
-            elif cs.state in (SLIDE, SMOOTH):
-                out.append(Lift("normal-sign", name, c, sigma=cs.sigma))
-            if cs.state == STICK:
-                out.append(SlipStart("slip", name, c))
-            elif cs.state == SLIDE:
-                d = self.solver.ck.dims[c]
-                direction = cs.direction[0] if d == 1 else 1.0
-                out.append(SlipStop("slip-stop", name, c, direction=direction))
-                if self.detect_jam and not bilateral and not torque:
-                    out.append(Jam("jam", name, c))
-        return out
+        return mode_events(self.solver, mode, self.detect_jam)
 
     def _tolerance(self, ev: Event, motion: Motion) -> float:
         if isinstance(ev, (Release, Lift, SlipStart)):
@@ -378,69 +353,72 @@ class Simulation:
             restart, first = False, True
             while not restart:
                 if self.fast_contacts.ready(mode, events, armed, drift, watched):  # to a possible event
-                    t, y, h, next_time, tiny = self.fast_contacts.run(
+                    t, y, h, next_time, tiny, step = self.fast_contacts.run(
                         mode, ode, events, tols, t_end, h, times, next_time, emit, budget, residual_max,
                         inertia.floor if inertia.active else -1.0, tiny)
-                    restart = True
-                    continue
-                go = self.fast.ready(mode, first, events, drift, watched)  # native code from here?
-                first = False
-                if go is not None:  # "rhs": restart on the native right-hand side; "phase": to the end
-                    h, restart = ode.h_abs, True
-                    if go == "phase":
-                        t, y, next_time, _ = self.fast.run(mode, ode, t_end, times, next_time, emit, budget)
-                    continue
-                message = ode.step()
-                if ode.status == "failed":
-                    explain_stall(self, ode, mode)
-                    raise IntegrationFailed(ode.t, mode.label(), message or "step failed", source)
-                t_old, t_new = ode.t_old, ode.t
-                if solver.charts is not None:  # Lagrange II: change charts at accepted states
-                    solver.charts.settle(mode, t_new, ode.y[:n], ode.y[n:2 * n])
-                h = t_new - t_old
-                budget.step(t_new)  # refuses a run that cannot finish
-                tiny = tiny + 1 if h < 1e-9 * min(t_end - t0, 1.0) + 4e-16 * abs(t_new) else 0
-                if tiny > 2000:
-                    explain_stall(self, ode, mode)
-                    raise IntegrationFailed(
-                        t_new, mode.label(), "the step size collapsed below 1e-9 of the time span (or of 1) for "
-                        "2000 steps: the right-hand side is not smooth here (a nonlinear constraint at "
-                        "a singular point, or a friction law without a sticking mode at zero slip)", source)
-                # the integrator's last evaluation was at (t_new, ode.y): the motion reuses it
-                motion = Motion(solver, mode, t_new, ode.y)
-                g_new = [ev.value(motion) for ev in events]
-                step = Step(solver, mode, ode, motion)
-                inertia.check(step)
-                support.check(t_new, ode.y)
-                rates_new = guard_rates.at(motion, h)
-                hits = event_hits(step, events, armed, tols, g_prev, g_new, (rates, rates_new)) or \
-                    (arrest(step, events, armed, g_new, SLIP_LEVEL * (1 + max_abs(motion.qd))) if tiny >= ARREST_STEPS else [])  # a slip's finite-time stop
-                singular = regularity.crossing(step, watched, level) if watched else None
-                passed = None  # a singular instant carried over on the smooth branch
-                if singular is not None and (not hits or singular <= min(hits)[0]):
-                    if self.singular == "stop":
-                        regularity.stop(self.model, step.motion(singular), watched)
-                    passed = regularity.pass_through(self, mode, fun, step, singular, watched, Solver, atol)
-                    if passed is None:  # a near miss, or no smooth branch: guard as "stop" does
-                        level = singular_level(self.rtol)
-                        singular = regularity.crossing(step, watched, level, force=True)
-                        if singular is not None and (not hits or singular <= min(hits)[0]):
+                    if step is None:
+                        restart = True
+                        continue
+                    hits, t_old = step.hits, step.a  # the event located natively in the step from (t, y)
+                else:
+                    go = self.fast.ready(mode, first, events, drift, watched)  # native code from here?
+                    first = False
+                    if go is not None:  # "rhs": restart on the native right-hand side; "phase": to the end
+                        h, restart = ode.h_abs, True
+                        if go == "phase":
+                            t, y, next_time, _ = self.fast.run(mode, ode, t_end, times, next_time, emit, budget)
+                        continue
+                    message = ode.step()
+                    if ode.status == "failed":
+                        explain_stall(self, ode, mode)
+                        raise IntegrationFailed(ode.t, mode.label(), message or "step failed", source)
+                    t_old, t_new = ode.t_old, ode.t
+                    if solver.charts is not None:  # Lagrange II: change charts at accepted states
+                        solver.charts.settle(mode, t_new, ode.y[:n], ode.y[n:2 * n])
+                    h = t_new - t_old
+                    budget.step(t_new)  # refuses a run that cannot finish
+                    tiny = tiny + 1 if h < 1e-9 * min(t_end - t0, 1.0) + 4e-16 * abs(t_new) else 0
+                    if tiny > 2000:
+                        explain_stall(self, ode, mode)
+                        raise IntegrationFailed(
+                            t_new, mode.label(), "the step size collapsed below 1e-9 of the time span (or of 1) for "
+                            "2000 steps: the right-hand side is not smooth here (a nonlinear constraint at "
+                            "a singular point, or a friction law without a sticking mode at zero slip)", source)
+                    # the integrator's last evaluation was at (t_new, ode.y): the motion reuses it
+                    motion = Motion(solver, mode, t_new, ode.y)
+                    g_new = [ev.value(motion) for ev in events]
+                    step = Step(solver, mode, ode, motion)
+                    inertia.check(step)
+                    support.check(t_new, ode.y)
+                    rates_new = guard_rates.at(motion, h)
+                    hits = event_hits(step, events, armed, tols, g_prev, g_new, (rates, rates_new)) or \
+                        (arrest(step, events, armed, g_new, SLIP_LEVEL * (1 + max_abs(motion.qd))) if tiny >= ARREST_STEPS else [])  # a slip's finite-time stop
+                    singular = regularity.crossing(step, watched, level) if watched else None
+                    passed = None  # a singular instant carried over on the smooth branch
+                    if singular is not None and (not hits or singular <= min(hits)[0]):
+                        if self.singular == "stop":
                             regularity.stop(self.model, step.motion(singular), watched)
-                if passed is not None:
-                    t, y, dense, record = passed
-                    if t > t_end:  # the end falls within the interval carried over
-                        t, y = t_end, dense(t_end)
-                    events_log.append(record)
-                    if times is None or at_events:
-                        ta = record["interval"][0]
-                        if at_events:
-                            next_time = sample_dense(dense, t_old, np.nextafter(ta, -np.inf), times, next_time, mode, emit)
-                        emit(ta, dense(ta), mode)
-                    if times is not None:
-                        next_time = sample_dense(dense, t_old, t, times, next_time, mode, emit)
-                    pending = times is None
-                    restart = True
-                    continue
+                        passed = regularity.pass_through(self, mode, fun, step, singular, watched, Solver, atol)
+                        if passed is None:  # a near miss, or no smooth branch: guard as "stop" does
+                            level = singular_level(self.rtol)
+                            singular = regularity.crossing(step, watched, level, force=True)
+                            if singular is not None and (not hits or singular <= min(hits)[0]):
+                                regularity.stop(self.model, step.motion(singular), watched)
+                    if passed is not None:
+                        t, y, dense, record = passed
+                        if t > t_end:  # the end falls within the interval carried over
+                            t, y = t_end, dense(t_end)
+                        events_log.append(record)
+                        if times is None or at_events:
+                            ta = record["interval"][0]
+                            if at_events:
+                                next_time = sample_dense(dense, t_old, np.nextafter(ta, -np.inf), times, next_time, mode, emit)
+                            emit(ta, dense(ta), mode)
+                        if times is not None:
+                            next_time = sample_dense(dense, t_old, t, times, next_time, mode, emit)
+                        pending = times is None
+                        restart = True
+                        continue
                 if hits:
                     te, k = min(hits)
                     ye = step.state(te)

@@ -58,10 +58,18 @@ def test_the_model_of_the_slip_acceleration_finds_the_scans_directions(slipping,
     scans = []
     original = onset._scanned_roots
     monkeypatch.setattr(onset, "_scanned_roots", lambda cross: scans.append(1) or original(cross))
-    found = [onset.onset_directions(solver, t, q, qd, probe, 0) for _, t, q, qd in states]
+
+    def directions():
+        out = []
+        for _, t, q, qd in states:  # as select_mode asks: each candidate slides its own way
+            solver.selecting = 1e-8 * (1.0 + np.abs(qd).max())
+            out.append(onset.onset_directions(solver, t, q, qd, probe, 0))
+        solver.selecting = 0.0
+        return out
+    found = directions()
     assert not scans  # the model held at every state
     monkeypatch.setattr(onset, "_model_roots", lambda udot, cross: None)
-    scanned = [onset.onset_directions(solver, t, q, qd, probe, 0) for _, t, q, qd in states]
+    scanned = directions()
     assert len(scans) == len(states)
     assert sum(len(d) for d in found) >= len(states) // 2  # the slip events have their onset
     for a, b in zip(found, scanned):

@@ -45,7 +45,7 @@ def _same_events(ref, got, tol):
 def test_the_friction_sphere_stops_slipping_at_the_same_instant(initial):
     model = load_model(SPHERE)
     ref, got, fc = _both(model, initial=initial)
-    assert fc.native_steps > 0 and fc.handbacks >= 1
+    assert fc.native_steps > 0 and fc.located == 1 and fc.handbacks == 0  # the stop located natively
     assert len(got.events) == 1
     _same_events(ref, got, 1e-12)
     # rolling from the event on: v = v0 - (2/7) U0 whatever the law (the closed form)
@@ -61,7 +61,7 @@ def test_a_stiff_stick_slip_cycle_every_event_as_on_the_python_path():
     ref, got, fc = _both(model, t_end=0.03)
     assert len(ref.events) >= 8
     _same_events(ref, got, 1e-10)
-    assert fc.native_steps > 0
+    assert fc.native_steps > 0 and fc.located == len(got.events)  # every switch located natively
 
 
 def test_short_slips_under_a_fast_force_every_event_as_on_the_python_path():
@@ -70,7 +70,7 @@ def test_short_slips_under_a_fast_force_every_event_as_on_the_python_path():
     assert len(ref.events) >= 4
     _same_events(ref, got, 1e-10)
     assert np.allclose(got.q[-1], ref.q[-1], rtol=0, atol=1e-9)
-    assert fc.native_steps > 0
+    assert fc.native_steps > 0 and fc.located == len(got.events)
 
 
 def test_a_bouncing_ball_bounces_at_the_same_instants():
@@ -105,3 +105,22 @@ def test_by_default_a_short_run_stays_on_the_python_path():
     sim.run(initial=OBLIQUE)
     assert sim.fast_contacts.native_steps == 0
     assert fast.NATIVE_STEPS > 100
+
+
+def test_the_located_steps_dense_output_is_scipys():
+    """The step in which the native loop located an event hands its dense output to the hybrid
+    loop (the grid's samples up to the event come from it): SciPy's DOP853 interpolant of the
+    same coefficients, at a time and at an array of times, and the event's own state."""
+    from scipy.integrate._ivp.rk import Dop853DenseOutput
+
+    from nonideal.simulation.fast_contacts import LocatedStep
+
+    rng = np.random.default_rng(5)
+    y, F = rng.normal(size=6), rng.normal(size=(7, 6))
+    step = LocatedStep(0.3, 0.02, y, F, 0.31, 2, np.full(6, 7.0))
+    ref = Dop853DenseOutput(0.3, 0.32, y, F)
+    s = np.linspace(0.3, 0.32, 5)
+    assert np.allclose(step.dense(s), ref(s), rtol=0, atol=1e-14)
+    assert np.allclose(step.dense(0.305), ref(0.305), rtol=0, atol=1e-14)
+    assert step.hits == [(0.31, 2)] and (step.a, step.b) == (0.3, 0.32)
+    assert np.array_equal(step.state(0.31), np.full(6, 7.0))
