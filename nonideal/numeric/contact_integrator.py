@@ -360,13 +360,14 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
             elif (probe.any() or crossing) and not _dense(kern, S, t, h, y, y_new, f_new, K, F):
                 status = 3
                 break
-        hh = h / (PROBES + 1)
-        at_s[0], at_s[1] = t, t + NEAR_END * hh
-        for p in range(PROBES):
-            at_s[2 + p] = t + hh * (p + 1)
-        at_s[PROBES + 2], at_s[PROBES + 3] = t_new - NEAR_END * hh, t_new
-        gs[0, :] = ga
-        gs[PROBES + 3, :] = gb
+        if (safe and probe.any()) or crossing:  # the scan's times, the guards at the ends
+            hh = h / (PROBES + 1)
+            at_s[0], at_s[1] = t, t + NEAR_END * hh
+            for p in range(PROBES):
+                at_s[2 + p] = t + hh * (p + 1)
+            at_s[PROBES + 2], at_s[PROBES + 3] = t_new - NEAR_END * hh, t_new
+            gs[0, :] = ga
+            gs[PROBES + 3, :] = gb
         if (safe or crossing) and probe.any():  # the scan's samples on the dense output
             for p in range(1, PROBES + 3):
                 interpolate(at_s[p], t, h, y, F, tmp)

@@ -25,7 +25,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 
-from ..numeric.consistency import complete_state, project_state
+from ..numeric.consistency import complete_state
 from ..errors import IntegrationFailed, ModelError, PainleveParadox
 from .events import ContactTouch, Event, Jam, Lift, Release, SlipStart, SlipStop, Touch, mode_events, transition
 from ..modeling.model import Model

@@ -69,8 +69,8 @@ class SampleBatch:
                 shape = np.empty((len(rows), d))
                 qd = self.Y[rows, n:2 * n]
                 nrm = np.sqrt(np.einsum("ij,ij->i", slip, slip))
-                wide = (nrm > 2.0 * SLIP_FLOOR * (1.0 + np.sqrt(np.einsum("ij,ij->i", qd, qd)))) | \
-                       (nrm > SLIP_FLOOR * (1.0 + np.abs(qd).max(axis=1)))
+                # ModeSolver.friction_shape's test (its cheap first bound implies this one)
+                wide = nrm > SLIP_FLOOR * (1.0 + np.abs(qd).max(axis=1))
                 if solver.selecting:  # (a selection under way: its rule for small slips)
                     wide[:] = False
                 shape[wide] = slip[wide] / nrm[wide, None]
