@@ -46,7 +46,7 @@ from .contact_events import dip, first_root, issue
 from .contact_system import definite, guards, residuals, rhs
 from .integrator import error_norm, interpolate, njit
 
-__all__ = ["rhs", "guards", "phase", "PROBE_NEAR", "SLOPE_STEP", "RATE_STEP", "RESOLVE"]
+__all__ = ["rhs", "guards", "phase", "initial_step", "PROBE_NEAR", "SLOPE_STEP", "RATE_STEP", "RESOLVE"]
 
 # the hybrid loop's constants (nonideal.simulation.guards; tests check they agree)
 PROBE_NEAR = 2.0
@@ -211,10 +211,48 @@ def _references(S, y, z):
 
 
 @njit(cache=True)
+def initial_step(kern, S, t, y, f, t_end, max_step, rtol, atol, y1):
+    """SciPy's first step of DOP853 (``select_initial_step``: Hairer, Norsett & Wanner 1993,
+    II.4, with the error estimator's order 7) from (t, y, f = y'(t)) towards t_end, at most
+    max_step; -1 where the system is singular at the trial state.  y1 is scratch."""
+    ny = y.shape[0]
+    interval = abs(t_end - t)
+    if interval == 0.0:
+        return 0.0
+    d0 = 0.0
+    d1 = 0.0
+    for i in range(ny):
+        scale = atol[i] + abs(y[i]) * rtol
+        d0 += (y[i] / scale) ** 2
+        d1 += (f[i] / scale) ** 2
+    d0 = math.sqrt(d0 / ny)
+    d1 = math.sqrt(d1 / ny)
+    h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
+    h0 = min(h0, interval)
+    for i in range(ny):
+        y1[i] = y[i] + h0 * f[i]
+    f1 = np.empty(ny)
+    if not rhs(kern, S, t + h0, y1, f1):
+        return -1.0
+    d2 = 0.0
+    for i in range(ny):
+        scale = atol[i] + abs(y[i]) * rtol
+        d2 += ((f1[i] - f[i]) / scale) ** 2
+    d2 = math.sqrt(d2 / ny) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
+    return min(100 * h0, h1, interval, max_step)
+
+
+@njit(cache=True)
 def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_max, floor,
           times, next_time, max_steps, tiny, run, run_max):
     """DOP853 from (t, y, f = y'(t)) towards t_end, the next step h_abs (at most step_max, the
     force guards' limit; max_step the run's), while no event can happen (module docstring).
+    A phase that starts natively passes an empty f (evaluated here) and, without a step
+    carried over from before its switch, h_abs 0 (SciPy's first step, :func:`initial_step`).
 
     Returns (status, t, y, f, h_abs, step_max, T, Y, count, next_time, steps, res_p, res_v,
     run, te, ke, ye, Fe): status 0 reached t_end, 1 max_steps taken, 2 step too small, 3
@@ -266,6 +304,14 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
     # the guards and rates at the start
     if not rhs(kern, S, t, y, dy):
         return 3, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run, 0.0, -1, y[:0], F[:0]
+    if f.shape[0] != ny:  # a phase that starts here: its derivative, and its first step if not given
+        f = dy.copy()
+        if not h_abs > 0.0:
+            h_abs = initial_step(kern, S, t, y, f, t_end, step_max, rtol, atol, tmp)
+            if h_abs < 0.0:
+                return 3, t, y, f, 0.0, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run, 0.0, -1, y[:0], F[:0]
+        if not h_last > 0.0:
+            h_last = h_abs
     guards(S, E, ga, sa)
     _rates(kern, S, E, t, y, dy, ga, sa, h_last, ra, ca, knowna)
     for k in range(ne):

@@ -198,8 +198,9 @@ class Native:
 
     def __init__(self, module, kernel):
         from . import integrator
+        from .callback import Callback
 
-        self.kernel = module.kernel
+        self.kernel = Callback(module.kernel)
         self.rhs = module.rhs
         self.integrator = integrator
         self.n = kernel.n

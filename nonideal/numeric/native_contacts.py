@@ -72,8 +72,9 @@ class NativeContacts:
 
     def __init__(self, module, kernel, constants):
         from . import contact_integrator
+        from .callback import Callback
 
-        self.kernel = module.kernel
+        self.kernel = Callback(module.kernel)
         self.loop = contact_integrator
         self.nx = len(kernel.symbols)
         self.nz = module.NZ

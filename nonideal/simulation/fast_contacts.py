@@ -35,6 +35,7 @@ tolerance and the events at the same instants to the accuracy of their location.
 from __future__ import annotations
 
 import time
+import warnings
 
 import numpy as np
 
@@ -44,13 +45,33 @@ from .sample_batch import SampleBatch
 from .fast import NATIVE_CHUNK, NATIVE_STEPS, deferred_signals
 from .guards import ARREST_STEPS
 
-__all__ = ["FastContacts", "LocatedStep", "COOLDOWN"]
+__all__ = ["FastContacts", "LocatedStep", "NativeStart", "COOLDOWN"]
 
 COOLDOWN = 1
 """Steps the hybrid loop takes after a native phase handed a step back before it tries native
 code again (doubled, up to 16, while the native code hands back within two steps)."""
 
+_EPS = np.finfo(float).eps
 _KINDS = {ContactTouch: 0, Lift: 1, SlipStart: 2, SlipStop: 3, Jam: 4}
+
+
+class NativeStart:
+    """What the native loop reads of SciPy's solver, for a phase that goes native from its
+    first step (no solver is made for it): the state, the step carried over from before the
+    switch (``h_abs`` 0 without one), the tolerances (SciPy's: ``rtol`` at least 100 machine
+    epsilons, with SciPy's warning) and the largest step.  The loop evaluates the derivative
+    (``f`` empty) and, without a step carried over, takes SciPy's first step
+    (:func:`~nonideal.numeric.contact_integrator.initial_step`)."""
+
+    def __init__(self, t: float, y: np.ndarray, first_step, t_end: float, rtol: float, atol, max_step: float):
+        self.t, self.y = t, y
+        self.f = np.zeros(0)
+        self.h_abs = min(first_step, t_end - t) if first_step else 0.0
+        if rtol < 100 * _EPS:
+            warnings.warn("At least one element of `rtol` is too small. "
+                          f"Setting `rtol = np.maximum(rtol, {100 * _EPS})`.", stacklevel=3)
+            rtol = 100 * _EPS
+        self.rtol, self.atol, self.max_step = rtol, atol, max_step
 
 
 class LocatedStep:
@@ -280,7 +301,7 @@ class FastContacts:
         E = self._event_arrays(mode, events, tols, contacts)
         if E is None:
             self._failed.add(mode.structure)
-            return float(ode.t), ode.y, float(ode.h_abs), next_time, tiny_run, None
+            return float(ode.t), ode.y, float(ode.h_abs) or h_last, next_time, tiny_run, None
         self._with_references(mode)
         nat = self.native
         t, y, f, h_abs = float(ode.t), np.array(ode.y, dtype=float), np.array(ode.f, dtype=float), float(ode.h_abs)
@@ -325,4 +346,4 @@ class FastContacts:
             self._handed = mode
         elif status != 0:
             self._failed.add(mode.structure)
-        return t, y, h_abs, (nt if times is not None else next_time), tiny_run, None
+        return t, y, h_abs or h_last, (nt if times is not None else next_time), tiny_run, None

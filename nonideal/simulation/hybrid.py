@@ -44,7 +44,7 @@ from .extended import reduce
 from ..equations.high_order import extension_of
 from .rhs import phase_rhs
 from .fast import FastPhases
-from .fast_contacts import FastContacts
+from .fast_contacts import FastContacts, NativeStart
 from .projection import project_mode
 from .trajectory import Trajectory
 from .zeno import Accumulation, ImpactSeries
@@ -343,16 +343,20 @@ class Simulation:
             solver.set_references(mode, motion, start=True)
             guard_rates = GuardRates(events)  # steps short enough to sample the force guards
             rates = guard_rates.at(motion, h or 1e-3 * (t_end - t))
-            ode = Solver(fun, t, y, t_end, **dict(kwargs, max_step=min(self.max_step, guard_rates.limit(rates, motion))))
+            max_step = min(self.max_step, guard_rates.limit(rates, motion))
             g_prev = [ev.value(motion) for ev in events]
             watched = regularity.rows(solver.rows(mode))
             level = singular_level(self.rtol) if self.singular == "stop" else JUMP_FROM
             regularity.start(motion, watched)
             tols = [self._tolerance(ev, motion) for ev in events]
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
+            native = self.fast_contacts.ready(mode, events, armed, drift, watched)  # from the first step
+            ode = NativeStart(t, y, kwargs.get("first_step"), t_end, self.rtol, atol, max_step) if native else \
+                Solver(fun, t, y, t_end, **dict(kwargs, max_step=max_step))
             restart, first = False, True
             while not restart:
-                if self.fast_contacts.ready(mode, events, armed, drift, watched):  # to a possible event
+                if native or self.fast_contacts.ready(mode, events, armed, drift, watched):  # to a possible event
+                    native = False
                     t, y, h, next_time, tiny, step = self.fast_contacts.run(
                         mode, ode, events, tols, t_end, h, times, next_time, emit, budget, residual_max,
                         inertia.floor if inertia.active else -1.0, tiny)
