@@ -124,3 +124,33 @@ def test_the_located_steps_dense_output_is_scipys():
     assert np.allclose(step.dense(0.305), ref(0.305), rtol=0, atol=1e-14)
     assert step.hits == [(0.31, 2)] and (step.a, step.b) == (0.3, 0.32)
     assert np.array_equal(step.state(0.31), np.full(6, 7.0))
+
+
+def test_a_phase_that_starts_natively_takes_scipys_first_step():
+    """A phase that goes native from its first step makes no SciPy solver: the native loop
+    evaluates its derivative and chooses the first step as SciPy's ``select_initial_step``
+    does for DOP853 (Hairer, Norsett & Wanner 1993, II.4), here on the right-hand side it
+    integrates (the runs that start so: the sphere's test above)."""
+    from scipy.integrate._ivp.common import select_initial_step
+
+    from nonideal.modes.switching import select_mode
+
+    model = load_model(SPHERE)
+    sim = Simulation(model, native=True)
+    q, qd = sim.initial_state(OBLIQUE)
+    mode = select_mode(sim.solver, 0.0, q, qd)
+    nat, S = sim.fast_contacts.native, sim.fast_contacts._with_references(mode)
+    y = np.concatenate((q, qd, np.zeros(5)))
+    atol = sim.work_tolerances()
+
+    def fun(t, y):
+        dy = np.empty(y.size)
+        assert nat.loop.rhs(nat.kernel, S, t, np.ascontiguousarray(y), dy)
+        return dy
+
+    f = fun(0.0, y)
+    for t_end, max_step in ((1.0, np.inf), (1.0, 1e-4), (1e-9, np.inf)):
+        want = select_initial_step(fun, 0.0, y, t_end, max_step, f, 1, 7, sim.rtol, atol)
+        got = nat.loop.initial_step(nat.kernel, S, 0.0, y, f, t_end, max_step, sim.rtol, atol, np.empty(y.size))
+        assert got == pytest.approx(want, rel=1e-12)
+    assert select_initial_step(fun, 0.0, y, 1.0, np.inf, f, 1, 7, sim.rtol, atol) < 1e-2  # (not the cap)
