@@ -201,8 +201,10 @@ class FastPhases:
         w, ix = self.buffers(mode)
         size = 2 * self.sim.n + (5 if self.sim.track else 0)
 
+        empty = np.empty
+
         def fun(t, y):
-            dy = np.empty(size)
+            dy = empty(size)
             if step(t, y, w, ix, dy):
                 return dy
             return general(t, y)
