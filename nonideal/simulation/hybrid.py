@@ -350,13 +350,16 @@ class Simulation:
             regularity.start(motion, watched)
             tols = [self._tolerance(ev, motion) for ev in events]
             armed = [g > tols[k] for k, g in enumerate(g_prev)]
-            native = self.fast_contacts.ready(mode, events, armed, drift, watched)  # from the first step
+            # the native code from the first step? (asked once a step: the answer counts steps)
+            native = self.fast_contacts.ready(mode, events, armed, drift, watched)
             ode = NativeStart(t, y, kwargs.get("first_step"), t_end, self.rtol, atol, max_step) if native else \
                 Solver(fun, t, y, t_end, **dict(kwargs, max_step=max_step))
             restart, first = False, True
             while not restart:
-                if native or self.fast_contacts.ready(mode, events, armed, drift, watched):  # to a possible event
-                    native = False
+                if native is None:
+                    native = self.fast_contacts.ready(mode, events, armed, drift, watched)
+                go, native = native, None
+                if go:  # natively to a possible event
                     t, y, h, next_time, tiny, step = self.fast_contacts.run(
                         mode, ode, events, tols, t_end, h, times, next_time, emit, budget, residual_max,
                         inertia.floor if inertia.active else -1.0, tiny)

@@ -154,3 +154,29 @@ def test_a_phase_that_starts_natively_takes_scipys_first_step():
         got = nat.loop.initial_step(nat.kernel, S, 0.0, y, f, t_end, max_step, sim.rtol, atol, np.empty(y.size))
         assert got == pytest.approx(want, rel=1e-12)
     assert select_initial_step(fun, 0.0, y, 1.0, np.inf, f, 1, 7, sim.rtol, atol) < 1e-2  # (not the cap)
+
+
+def test_the_native_path_is_asked_once_a_step(monkeypatch):
+    """Whether the next step goes native is asked once before each step (the answer counts a
+    mode's steps and a hand-back's wait), also at a phase's first step, asked before the
+    phase's solver is made: as many questions as steps taken on the Python path."""
+    from scipy.integrate import DOP853
+
+    from nonideal.simulation.fast_contacts import FastContacts
+
+    asked, stepped = [], []
+    ready, step = FastContacts.ready, DOP853.step
+
+    def counting_ready(self, *args):
+        asked.append(1)
+        return ready(self, *args)
+
+    def counting_step(self):
+        stepped.append(1)
+        return step(self)
+
+    monkeypatch.setattr(FastContacts, "ready", counting_ready)
+    monkeypatch.setattr(DOP853, "step", counting_step)
+    tr = Simulation(load_model(SPHERE), native=False).run(initial=OBLIQUE)
+    assert len(tr.events) == 1 and len(stepped) >= 5
+    assert len(asked) == len(stepped)
