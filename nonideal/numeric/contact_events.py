@@ -12,7 +12,7 @@ import math
 from .contact_system import guards, rhs
 from .integrator import interpolate, njit
 
-__all__ = ["issue", "guard_at", "dip", "root", "first_root"]
+__all__ = ["issue", "guard_at", "dip", "root", "first_root", "scan_root", "peak", "unarmed_root"]
 
 
 @njit(cache=True)
@@ -78,8 +78,9 @@ def dip(kern, S, E, k, lo, hi, t, h, y, F, tmp, dy, gv, sv):
 
 
 @njit(cache=True)
-def root(kern, S, E, k, xa, xb, fa, fb, t, h, y, F, tmp, dy, gv, sv):
-    """The zero of guard k in ``[xa, xb]`` (``fa > 0 >= fb``) on the dense output: Brent's
+def root(kern, S, E, k, xa, xb, fa, fb, t, h, y, F, tmp, dy, gv, sv, shift=0.0):
+    """The zero of guard k plus *shift* in ``[xa, xb]`` (``fa > 0 >= fb``, the values with the
+    shift) on the dense output: Brent's
     method (inverse quadratic interpolation and secant steps safeguarded by bisection) to the
     tolerances of the hybrid loop's ``brentq`` (:meth:`StepScan._root
     <nonideal.simulation.guards.StepScan>`); NaN where a value is not a number."""
@@ -120,7 +121,7 @@ def root(kern, S, E, k, xa, xb, fa, fb, t, h, y, F, tmp, dy, gv, sv):
             d = e = m
         a, fa = b, fb
         b += d if abs(d) > tol else (tol if m > 0.0 else -tol)
-        fb = guard_at(kern, S, E, k, b, t, h, y, F, tmp, dy, gv, sv)
+        fb = guard_at(kern, S, E, k, b, t, h, y, F, tmp, dy, gv, sv) + shift
         if math.isnan(fb):
             return math.nan
     return b
@@ -137,7 +138,15 @@ def first_root(kern, S, E, k, probed, s, g, t, h, y, F, tmp, dy, gv, sv):
         if g[0] > 0.0 >= g[last]:
             return root(kern, S, E, k, s[0], s[last], g[0], g[last], t, h, y, F, tmp, dy, gv, sv)
         return math.inf
-    i = 1
+    return scan_root(kern, S, E, k, s, g, 1, t, h, y, F, tmp, dy, gv, sv)
+
+
+@njit(cache=True)
+def scan_root(kern, S, E, k, s, g, start, t, h, y, F, tmp, dy, gv, sv):
+    """The first zero of guard k from its samples g at the times s, looking from sample
+    ``start`` on (:meth:`StepScan._scan <nonideal.simulation.guards.StepScan>` of the samples
+    from ``start - 1``); inf if none, NaN where a value is not a number."""
+    i = start
     while True:
         kind, i = issue(s, g, i)
         if kind == 0:
@@ -152,3 +161,72 @@ def first_root(kern, S, E, k, probed, s, g, t, h, y, F, tmp, dy, gv, sv):
         if found > 0:
             return root(kern, S, E, k, s[i - 1], x, g[i - 1], gx, t, h, y, F, tmp, dy, gv, sv)
         i += 1
+
+
+@njit(cache=True)
+def peak(kern, S, E, k, lo, hi, t, h, y, F, tmp, dy, gv, sv):
+    """``(x, g(x))``: the maximum of guard k over ``[lo, hi]`` of the step by golden section to
+    the hybrid loop's tolerance (:meth:`StepScan._maximum <nonideal.simulation.guards.StepScan>`);
+    g NaN where a value is not a number."""
+    xatol = 1e-12 * max(1.0, abs(hi)) + 1e-9 * (hi - lo)
+    w = 0.5 * (math.sqrt(5.0) - 1.0)
+    a, b = lo, hi
+    c, d = b - w * (b - a), a + w * (b - a)
+    fc = guard_at(kern, S, E, k, c, t, h, y, F, tmp, dy, gv, sv)
+    fd = guard_at(kern, S, E, k, d, t, h, y, F, tmp, dy, gv, sv)
+    while True:
+        if math.isnan(fc) or math.isnan(fd):
+            return c, math.nan
+        if b - a <= xatol:
+            return (c, fc) if fc >= fd else (d, fd)
+        if fc > fd:
+            b, d, fd = d, c, fc
+            c = b - w * (b - a)
+            fc = guard_at(kern, S, E, k, c, t, h, y, F, tmp, dy, gv, sv)
+        else:
+            a, c, fc = c, d, fd
+            d = a + w * (b - a)
+            fd = guard_at(kern, S, E, k, d, t, h, y, F, tmp, dy, gv, sv)
+
+
+@njit(cache=True)
+def unarmed_root(kern, S, E, k, tol, rising, s, g, t, h, y, F, tmp, dy, gv, sv, s2, g2):
+    """``(te, armed)`` of guard k, not armed at the step's start, as the hybrid loop's scan
+    and ``event_hits`` treat it (:meth:`StepScan.first_root
+    <nonideal.simulation.guards.StepScan>`): armed from the first sample above *tol* (the
+    scan looks for a zero from there), or at an interior peak above it (from the peak on:
+    near the start, between the first samples where they rise, or before the first interior
+    one where the guard rises at the start, *rising*); not armed and below ``-tol`` at the
+    end, the event where the guard passes ``-tol/2``.  te inf if none, NaN where a value is
+    not a number.  s2, g2 are scratch of the samples' length."""
+    last = s.shape[0] - 1
+    for i in range(last + 1):
+        if g[i] > tol:
+            return scan_root(kern, S, E, k, s, g, i + 1, t, h, y, F, tmp, dy, gv, sv), True
+    hi = -1.0
+    if g[1] > g[0]:
+        hi = s[2]
+    elif rising:
+        hi = s[1]
+    if hi > s[0]:
+        x, gx = peak(kern, S, E, k, s[0], hi, t, h, y, F, tmp, dy, gv, sv)
+        if math.isnan(gx):
+            return math.nan, False
+        if gx > tol:  # the scan from the peak on, over the samples after it
+            s2[0], g2[0] = x, gx
+            m = 1
+            for i in range(last + 1):
+                if s[i] > x:
+                    s2[m], g2[m] = s[i], g[i]
+                    m += 1
+            return scan_root(kern, S, E, k, s2[:m], g2[:m], 1, t, h, y, F, tmp, dy, gv, sv), True
+    if g[last] < -tol:  # a guard that left zero on the wrong side (a force zero at the switch)
+        shift = 0.5 * tol
+        ga = guard_at(kern, S, E, k, s[0], t, h, y, F, tmp, dy, gv, sv)
+        if math.isnan(ga):
+            return math.nan, False
+        if ga + shift <= 0.0:
+            return s[0], False
+        return root(kern, S, E, k, s[0], s[last], ga + shift, g[last] + shift, t, h, y, F, tmp, dy, gv, sv,
+                    shift), False
+    return math.inf, False

@@ -10,7 +10,7 @@ outputs | contact outputs]``: the layout of the mode solver's buffer).
   (:mod:`nonideal.numeric.contact_system`): the mode's right-hand side and event values;
 * :func:`phase` -- DOP853 steps (SciPy's tableau, error norm and step-size control) as long as
   every step is one in which the hybrid loop's scan (:mod:`nonideal.simulation.guards`) would
-  find nothing: every guard armed, positive at both ends and, where it comes within
+  find nothing: every armed guard positive at both ends and, where it comes within
   :data:`PROBE_NEAR` times its change across the step of zero (its slopes at the ends
   included: tangent differences for the kinematic guards, the force guards' rates), positive
   at the scan's samples on the dense output and, where the samples dip as the scan would
@@ -31,7 +31,8 @@ power, M_at, F_at]``; ``slide[k] = [layout row, U, d, W, mu]`` (positions in ``z
 = [sigma, direction, fallback direction (3), has fallback]``; ``tang[k] = [layout row, U]``;
 ``E = (ev, evf, resid)`` the events, ``ev[k] = [type, layout row, first tangent row, d, slide,
 z position, mu_s position]`` (types: 0 touch, 1 lift, 2 slip start, 3 slip stop, 4 jam),
-``evf[k] = [sigma or direction, tolerance]``, ``resid[k] = [gap, gap rate, U, d]`` of each
+``evf[k] = [sigma or direction, tolerance, armed]`` (armed 1: above its tolerance once in the
+phase, the hybrid loop's flag), ``resid[k] = [gap, gap rate, U, d]`` of each
 touching contact (``d = 0`` unless it sticks).
 """
 
@@ -42,7 +43,7 @@ import numpy as np
 from scipy.integrate import DOP853 as _D
 
 from .contact_kernel import SLIP_FLOOR
-from .contact_events import dip, first_root, issue
+from .contact_events import dip, first_root, issue, unarmed_root
 from .contact_system import definite, guards, residuals, rhs
 from .integrator import error_norm, interpolate, njit
 
@@ -301,6 +302,11 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
     at_s = np.empty(PROBES + 4)
     gs = np.empty((PROBES + 4, ne))
     gv = np.empty(ne)
+    armed = np.empty(ne, dtype=np.bool_)  # armed where above its tolerance once (the hybrid loop's armed)
+    tu = np.full(ne, math.inf)  # the zeros of the guards not armed, in the step
+    arming = np.zeros(ne, dtype=np.bool_)  # those the step arms
+    s2 = np.empty(PROBES + 4)
+    g2 = np.empty(PROBES + 4)
     # the guards and rates at the start
     if not rhs(kern, S, t, y, dy):
         return 3, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run, 0.0, -1, y[:0], F[:0]
@@ -308,15 +314,15 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
         f = dy.copy()
         if not h_abs > 0.0:
             h_abs = initial_step(kern, S, t, y, f, t_end, step_max, rtol, atol, tmp)
-            if h_abs < 0.0:
+            # (its trial evaluation left its outputs in S: the start's again, for the guards)
+            if h_abs < 0.0 or not rhs(kern, S, t, y, dy):
                 return 3, t, y, f, 0.0, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run, 0.0, -1, y[:0], F[:0]
         if not h_last > 0.0:
             h_last = h_abs
     guards(S, E, ga, sa)
     _rates(kern, S, E, t, y, dy, ga, sa, h_last, ra, ca, knowna)
     for k in range(ne):
-        if not ga[k] > evf[k, 1]:  # not armed: the hybrid loop watches it
-            return 5, t, y, f, h_abs, step_max, T[:0], Y[:0], 0, next_time, 0, res_p, res_v, run, 0.0, -1, y[:0], F[:0]
+        armed[k] = evf[k, 2] > 0.5  # (the hybrid loop's: above its tolerance once in the phase)
     while t < t_end:
         if steps >= max_steps:
             status = 1
@@ -398,8 +404,8 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
                     change = max(change, h * slope)
                 elif knowna[k] and knownb[k]:
                     change = max(change, h * max(abs(ra[k]), abs(rb[k])))
-                probe[k] = not min(a, b) > PROBE_NEAR * change
-                if not b > 0.0:  # (a > 0: every guard is positive at an accepted step)
+                probe[k] = not (armed[k] and min(a, b) > PROBE_NEAR * change)  # (not armed: always)
+                if armed[k] and not b > 0.0:  # (a > 0: an armed guard is positive at an accepted step)
                     safe, crossing = False, True
             if lost:
                 safe = crossing = False
@@ -423,8 +429,16 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
                 guards(S, E, gs[p], sa)
             if status != 0:
                 break
+            for k in range(ne):  # each guard not armed: armed in the step, or its zero there
+                if not armed[k]:
+                    rising = (ka[k] > ga[k]) if (ev[k, 0] == 0 or ev[k, 0] == 3) else \
+                        (knowna[k] and knownb[k] and ra[k] > 0)
+                    tu[k], arming[k] = unarmed_root(kern, S, E, k, evf[k, 1], rising, at_s, gs[:, k], t, h, y, F,
+                                                    tmp, dy, gv, sa, s2, g2)
+                    if not math.isinf(tu[k]):
+                        safe, crossing = False, crossing or not math.isnan(tu[k])
             for k in range(ne):
-                if probe[k] and safe:
+                if probe[k] and armed[k] and safe:
                     i = 1
                     while safe:
                         kind, i = issue(at_s, gs[:, k], i)
@@ -441,7 +455,8 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
         if crossing:  # an event in the step: located as the hybrid loop's scan locates it
             te, ke = math.inf, -1
             for k in range(ne):
-                tk = first_root(kern, S, E, k, probe[k], at_s, gs[:, k], t, h, y, F, tmp, dy, gv, sa)
+                tk = tu[k] if not armed[k] else \
+                    first_root(kern, S, E, k, probe[k], at_s, gs[:, k], t, h, y, F, tmp, dy, gv, sa)
                 if math.isnan(tk):
                     ke = -1
                     break
@@ -456,6 +471,9 @@ def phase(kern, S, E, t, y, f, h_abs, h_last, t_end, rtol, atol, max_step, step_
             h_abs = h_try
             break
         steps += 1
+        for k in range(ne):
+            if not armed[k]:
+                armed[k] = arming[k]
         res_p = max(res_p, rp)
         res_v = max(res_v, rv)
         if grid:

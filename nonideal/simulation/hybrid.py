@@ -361,7 +361,7 @@ class Simulation:
                 go, native = native, None
                 if go:  # natively to a possible event
                     t, y, h, next_time, tiny, step = self.fast_contacts.run(
-                        mode, ode, events, tols, t_end, h, times, next_time, emit, budget, residual_max,
+                        mode, ode, events, tols, armed, t_end, h, times, next_time, emit, budget, residual_max,
                         inertia.floor if inertia.active else -1.0, tiny)
                     if step is None:
                         restart = True

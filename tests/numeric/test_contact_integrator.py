@@ -99,7 +99,7 @@ def test_native_guards_agree_with_the_events(body, tmp_path):
             motion = Motion(sim.solver, mode, t, y)
             events = sim.events(mode, t, y)
             tols = [sim._tolerance(ev, motion) for ev in events]
-            E = fc._event_arrays(mode, events, tols, contacts)
+            E = fc._event_arrays(mode, events, tols, contacts, [True] * len(events))
             dy = np.empty_like(y)
             assert fc.native.loop.rhs(fc.native.kernel, S, t, y, dy)
             g, scale = np.empty(len(events)), np.empty(len(events))

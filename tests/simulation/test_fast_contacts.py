@@ -13,7 +13,7 @@ from nonideal.numeric import native
 from nonideal.simulation import fast
 from nonideal.simulation.hybrid import Simulation
 
-from tests.helpers import PACKAGE_ROOT
+from tests.helpers import DATA_DIR, PACKAGE_ROOT
 from tests.simulation.test_fast_forcing_stick_slip import block
 
 pytest.importorskip("numba")
@@ -56,12 +56,27 @@ def test_the_friction_sphere_stops_slipping_at_the_same_instant(initial):
     assert np.allclose(got.qd[-1], ref.qd[-1], rtol=0, atol=1e-10)
 
 
-def test_a_stiff_stick_slip_cycle_every_event_as_on_the_python_path():
+def test_a_stiff_stick_slip_cycle_every_event_as_on_the_python_path(monkeypatch):
+    """Every switch located natively, and no step taken in Python: each phase starts native,
+    its guard that the switch left at zero (not armed) watched natively as the scan does."""
+    from scipy.integrate import DOP853
+
     model = stick_slip_oscillator.build(k=1e6, t_end=0.03)
-    ref, got, fc = _both(model, t_end=0.03)
+    ref = Simulation(model, native=False).run(t_end=0.03)
+    stepped, step = [], DOP853.step
+
+    def counting_step(self):
+        stepped.append(1)
+        return step(self)
+
+    monkeypatch.setattr(DOP853, "step", counting_step)
+    sim = Simulation(model, native=True)
+    got = sim.run(t_end=0.03)
     assert len(ref.events) >= 8
     _same_events(ref, got, 1e-10)
+    fc = sim.fast_contacts
     assert fc.native_steps > 0 and fc.located == len(got.events)  # every switch located natively
+    assert stepped == [] and fc.handbacks == 0
 
 
 def test_short_slips_under_a_fast_force_every_event_as_on_the_python_path():
@@ -180,3 +195,17 @@ def test_the_native_path_is_asked_once_a_step(monkeypatch):
     tr = Simulation(load_model(SPHERE), native=False).run(initial=OBLIQUE)
     assert len(tr.events) == 1 and len(stepped) >= 5
     assert len(asked) == len(stepped)
+
+
+def test_a_phase_that_starts_natively_reads_its_guards_at_its_start():
+    """A rod spun upright on a smooth floor leaves it at once: the first phase starts with its
+    touch guard at zero, not armed, and goes native from its first step (the native loop
+    watches a guard that is not armed as the scan does).  Its guards are read at the start
+    -- not at the state where the first step was chosen, 1e-4 s on (a gap of 7e-8 there
+    made a dip to zero in the first step, a touch at 1e-8 s) -- and the run has the Python
+    path's two events: the landing at 0.1366 s and the lift-off at 0.9419 s."""
+    model = load_model(DATA_DIR / "friction" / "rod_floor_spin.toml")
+    ref, got, fc = _both(model, t_end=1.0)
+    assert fc.native_steps > 0
+    assert [(e["type"], e["mode"]) for e in got.events] == [("touch", "floor:smooth"), ("lift-off", "floor:separated")]
+    _same_events(ref, got, 1e-9)
