@@ -52,6 +52,15 @@ def dip(kern, S, E, k, lo, hi, t, h, y, F, tmp, dy, gv, sv):
     <nonideal.simulation.guards.StepScan>`), stopped at the first value that is not positive.
     Returns ``(found, x, g(x))``: found 1 such a value at x (an event in the dip), 0 the dip
     stays positive, -1 a value that is not a number."""
+    return _golden(kern, S, E, k, lo, hi, 1.0, True, t, h, y, F, tmp, dy, gv, sv)
+
+
+@njit(cache=True)
+def _golden(kern, S, E, k, lo, hi, sign, stop, t, h, y, F, tmp, dy, gv, sv):
+    """Golden section for the minimum of ``sign g`` (guard k) over ``[lo, hi]`` to the hybrid
+    loop's tolerance; with *stop*, stopped at the first g that is not positive.  Returns
+    ``(found, x, g(x))``: 1 stopped there, 0 converged (the better of the last two points), -1
+    a value that is not a number."""
     xatol = 1e-12 * max(1.0, abs(hi)) + 1e-9 * (hi - lo)
     w = 0.5 * (math.sqrt(5.0) - 1.0)
     a, b = lo, hi
@@ -60,14 +69,15 @@ def dip(kern, S, E, k, lo, hi, t, h, y, F, tmp, dy, gv, sv):
     fd = guard_at(kern, S, E, k, d, t, h, y, F, tmp, dy, gv, sv)
     while True:
         if math.isnan(fc) or math.isnan(fd):
-            return -1, c, fc
-        if not fc > 0.0:
-            return 1, c, fc
-        if not fd > 0.0:
-            return 1, d, fd
+            return -1, c, math.nan
+        if stop:
+            if not fc > 0.0:
+                return 1, c, fc
+            if not fd > 0.0:
+                return 1, d, fd
         if b - a <= xatol:
-            return 0, c, fc
-        if fc < fd:
+            return (0, c, fc) if sign * fc <= sign * fd else (0, d, fd)
+        if sign * fc < sign * fd:
             b, d, fd = d, c, fc
             c = b - w * (b - a)
             fc = guard_at(kern, S, E, k, c, t, h, y, F, tmp, dy, gv, sv)
@@ -168,25 +178,8 @@ def peak(kern, S, E, k, lo, hi, t, h, y, F, tmp, dy, gv, sv):
     """``(x, g(x))``: the maximum of guard k over ``[lo, hi]`` of the step by golden section to
     the hybrid loop's tolerance (:meth:`StepScan._maximum <nonideal.simulation.guards.StepScan>`);
     g NaN where a value is not a number."""
-    xatol = 1e-12 * max(1.0, abs(hi)) + 1e-9 * (hi - lo)
-    w = 0.5 * (math.sqrt(5.0) - 1.0)
-    a, b = lo, hi
-    c, d = b - w * (b - a), a + w * (b - a)
-    fc = guard_at(kern, S, E, k, c, t, h, y, F, tmp, dy, gv, sv)
-    fd = guard_at(kern, S, E, k, d, t, h, y, F, tmp, dy, gv, sv)
-    while True:
-        if math.isnan(fc) or math.isnan(fd):
-            return c, math.nan
-        if b - a <= xatol:
-            return (c, fc) if fc >= fd else (d, fd)
-        if fc > fd:
-            b, d, fd = d, c, fc
-            c = b - w * (b - a)
-            fc = guard_at(kern, S, E, k, c, t, h, y, F, tmp, dy, gv, sv)
-        else:
-            a, c, fc = c, d, fd
-            d = a + w * (b - a)
-            fd = guard_at(kern, S, E, k, d, t, h, y, F, tmp, dy, gv, sv)
+    _, x, gx = _golden(kern, S, E, k, lo, hi, -1.0, False, t, h, y, F, tmp, dy, gv, sv)
+    return x, gx
 
 
 @njit(cache=True)
